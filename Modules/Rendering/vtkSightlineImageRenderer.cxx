@@ -1,0 +1,253 @@
+#include "vtkSightlineImageRenderer.h"
+
+#include "vtkActor.h"
+#include "vtkActorCollection.h"
+#include "vtkCamera.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkSightlineMapper.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "sightline/Framebuffer.h"
+
+#include <algorithm>
+#include <cstring>
+
+vtkStandardNewMacro(vtkSightlineImageRenderer);
+
+//------------------------------------------------------------------------------
+vtkSightlineImageRenderer::vtkSightlineImageRenderer()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+//------------------------------------------------------------------------------
+vtkSightlineImageRenderer::~vtkSightlineImageRenderer()
+{
+  this->SetActiveCamera(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineImageRenderer::AddActor(vtkActor* actor)
+{
+  if (actor && !this->Actors->IsItemPresent(actor))
+  {
+    this->Actors->AddItem(actor);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveActor(vtkActor* actor)
+{
+  if (this->Actors->IsItemPresent(actor))
+  {
+    this->Actors->RemoveItem(actor);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveAllActors()
+{
+  this->Actors->RemoveAllItems();
+  this->Modified();
+}
+
+vtkActorCollection* vtkSightlineImageRenderer::GetActors()
+{
+  return this->Actors;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineImageRenderer::SetActiveCamera(vtkCamera* camera)
+{
+  vtkSetObjectBodyMacro(ActiveCamera, vtkCamera, camera);
+}
+
+void vtkSightlineImageRenderer::AddLight(vtkLight* light)
+{
+  if (light)
+  {
+    this->Lights->AddItem(light);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveAllLights()
+{
+  this->Lights->RemoveAllItems();
+  this->Modified();
+}
+
+vtkLightCollection* vtkSightlineImageRenderer::GetLights()
+{
+  return this->Lights;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineImageRenderer::ResetCamera()
+{
+  if (!this->ActiveCamera)
+  {
+    vtkNew<vtkCamera> camera;
+    this->SetActiveCamera(camera);
+  }
+  // A renderer without a window computes bounds and camera placement exactly as it would
+  // for the window; nothing here touches OpenGL.
+  vtkNew<vtkRenderer> renderer;
+  renderer->SetActiveCamera(this->ActiveCamera);
+  vtkCollectionSimpleIterator it;
+  this->Actors->InitTraversal(it);
+  while (vtkActor* actor = this->Actors->GetNextActor(it))
+  {
+    renderer->AddActor(actor);
+  }
+  // vtkRenderer::ResetCamera uses the viewport's aspect; without a window it is 1, so apply
+  // this image's aspect the way vtkRenderer does for wide images.
+  renderer->ResetCamera();
+  const double aspect = double(this->Size[0]) / std::max(1, this->Size[1]);
+  if (aspect < 1.0 && !this->ActiveCamera->GetParallelProjection())
+  {
+    this->ActiveCamera->Dolly(aspect);
+  }
+  else if (aspect < 1.0)
+  {
+    this->ActiveCamera->SetParallelScale(this->ActiveCamera->GetParallelScale() / aspect);
+  }
+  renderer->ResetCameraClippingRange();
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkSightlineImageRenderer::GetMTime()
+{
+  vtkMTimeType time = this->Superclass::GetMTime();
+  if (this->ActiveCamera)
+  {
+    time = std::max(time, this->ActiveCamera->GetMTime());
+  }
+  time = std::max(time, this->Lights->GetMTime());
+  vtkCollectionSimpleIterator it;
+  this->Lights->InitTraversal(it);
+  while (vtkLight* light = this->Lights->GetNextLight(it))
+  {
+    time = std::max(time, light->GetMTime());
+  }
+  this->Actors->InitTraversal(it);
+  while (vtkActor* actor = this->Actors->GetNextActor(it))
+  {
+    time = std::max(time, actor->GetMTime());
+    if (vtkMapper* mapper = actor->GetMapper())
+    {
+      time = std::max(time, mapper->GetMTime());
+      if (mapper->GetNumberOfInputConnections(0) > 0)
+      {
+        time = std::max(time, mapper->GetInputAlgorithm()->GetMTime());
+      }
+    }
+  }
+  return time;
+}
+
+//------------------------------------------------------------------------------
+int vtkSightlineImageRenderer::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  const int extent[6] = { 0, std::max(this->Size[0], 1) - 1, 0, std::max(this->Size[1], 1) - 1,
+    0, 0 };
+  vtkInformation* info = outputVector->GetInformationObject(0);
+  info->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  vtkDataObject::SetPointDataActiveScalarInfo(info, VTK_UNSIGNED_CHAR, 4);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkSightlineImageRenderer::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  const int width = this->Size[0];
+  const int height = this->Size[1];
+  if (width <= 0 || height <= 0)
+  {
+    vtkErrorMacro(<< "The image size must be positive, got " << width << "x" << height << ".");
+    return 0;
+  }
+  if (!this->ActiveCamera)
+  {
+    vtkErrorMacro(<< "No camera: call SetActiveCamera (or ResetCamera) first.");
+    return 0;
+  }
+
+  sightline::Framebuffer image(width, height);
+  sightline::Framebuffer layer;
+  const int actorCount = this->Actors->GetNumberOfItems();
+  int done = 0;
+  vtkCollectionSimpleIterator it;
+  this->Actors->InitTraversal(it);
+  while (vtkActor* actor = this->Actors->GetNextActor(it))
+  {
+    this->UpdateProgress(double(done++) / std::max(actorCount, 1));
+    if (!actor->GetVisibility())
+    {
+      continue;
+    }
+    auto* mapper = vtkSightlineMapper::SafeDownCast(actor->GetMapper());
+    if (!mapper)
+    {
+      vtkWarningMacro(<< "Skipping an actor whose mapper is "
+                      << (actor->GetMapper() ? actor->GetMapper()->GetClassName() : "null")
+                      << "; only vtkSightlineMapper subclasses can be rendered without OpenGL.");
+      continue;
+    }
+    // Each actor is traced on its own and composited by depth, as the depth test does when
+    // the same actors are drawn into a window.
+    if (mapper->RayTrace(actor, this->ActiveCamera, this->Lights, width, height, layer))
+    {
+      image.compositeNearest(layer);
+    }
+  }
+  this->UpdateProgress(1.0);
+
+  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
+  output->SetSpacing(1, 1, 1);
+  output->SetOrigin(0, 0, 0);
+  const sightline::vec3 background(this->Background[0], this->Background[1], this->Background[2]);
+  std::vector<std::uint8_t> rgba = image.toRGBA8(background);
+  for (std::size_t i = 3; i < rgba.size(); i += 4)
+  {
+    rgba[i] = 255; // composited over the background, the image is opaque like a window's
+  }
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("Colors");
+  colors->SetNumberOfComponents(4);
+  colors->SetNumberOfTuples(image.pixelCount());
+  std::memcpy(colors->GetPointer(0), rgba.data(), rgba.size());
+  vtkNew<vtkFloatArray> depth;
+  depth->SetName("Depth");
+  depth->SetNumberOfTuples(image.pixelCount());
+  std::copy(image.Depth.begin(), image.Depth.end(), depth->GetPointer(0));
+  output->GetPointData()->SetScalars(colors);
+  output->GetPointData()->AddArray(depth);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineImageRenderer::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Size: " << this->Size[0] << " x " << this->Size[1] << "\n";
+  os << indent << "Background: (" << this->Background[0] << ", " << this->Background[1] << ", "
+     << this->Background[2] << ")\n";
+  os << indent << "ActiveCamera: " << this->ActiveCamera << "\n";
+  os << indent << "Actors: " << this->Actors->GetNumberOfItems() << "\n";
+  os << indent << "Lights: " << this->Lights->GetNumberOfItems() << "\n";
+}

@@ -1,0 +1,459 @@
+#include "vtkSightlineMapper.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCommand.h"
+#include "vtkDataObject.h"
+#include "vtkInformation.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderUtilities.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkShaderProgram.h"
+#include "vtkTextureObject.h"
+#include "vtk_glew.h"
+
+#include "sightline/EmbreeScene.h"
+#include "sightline/Framebuffer.h"
+#include "sightline/Renderer.h"
+
+#include <algorithm>
+#include <exception>
+#include <vector>
+
+class vtkSightlineMapper::vtkInternals
+{
+public:
+  // Geometry and BVH, rebuilt when the input, the mapper or its lookup table change.
+  std::shared_ptr<sightline::Geometry> Geometry;
+  std::unique_ptr<sightline::EmbreeScene> Scene;
+  vtkTimeStamp BuildTime;
+  double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
+
+  // Last window frame, reused while nothing that affects it changes.
+  sightline::Framebuffer Frame;
+  std::vector<double> FrameKey;
+  std::vector<unsigned char> Rgba;
+
+  // OpenGL resources for the window path.
+  vtkNew<vtkTextureObject> ColorTexture;
+  vtkNew<vtkTextureObject> DepthTexture;
+  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+  bool TexturesCurrent = false;
+
+  bool WarnedOpacity = false;
+  bool WarnedPositionalLight = false;
+};
+
+namespace
+{
+sightline::dmat4 ToGlm(vtkMatrix4x4* m)
+{
+  sightline::dmat4 g;
+  for (int row = 0; row < 4; ++row)
+    for (int col = 0; col < 4; ++col)
+      g[col][row] = m->GetElement(row, col); // GLM is column-major
+  return g;
+}
+
+sightline::Material MaterialFromProperty(vtkProperty* p)
+{
+  sightline::Material m;
+  double c[3];
+  p->GetDiffuseColor(c);
+  m.color = sightline::vec3(c[0], c[1], c[2]);
+  p->GetAmbientColor(c);
+  m.ambientColor = sightline::vec3(c[0], c[1], c[2]);
+  p->GetSpecularColor(c);
+  m.specularColor = sightline::vec3(c[0], c[1], c[2]);
+  m.ambient = static_cast<float>(p->GetAmbient());
+  m.diffuse = static_cast<float>(p->GetDiffuse());
+  m.specular = static_cast<float>(p->GetSpecular());
+  m.specularPower = static_cast<float>(p->GetSpecularPower());
+  m.opacity = 1.0f; // opaque only, see the class documentation
+  return m;
+}
+
+const char* const QuadFragmentDeclarations = "uniform sampler2D colorTexture;\n"
+                                             "uniform sampler2D depthTexture;\n";
+// Misses carry window depth 1 and are discarded so whatever VTK drew there stays.
+const char* const QuadFragmentImplementation =
+  "  float depth = texture(depthTexture, texCoord).r;\n"
+  "  if (depth >= 1.0) { discard; }\n"
+  "  gl_FragData[0] = texture(colorTexture, texCoord);\n"
+  "  gl_FragDepth = depth;\n";
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkSightlineMapper::vtkSightlineMapper()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkSightlineMapper::~vtkSightlineMapper() = default;
+
+//------------------------------------------------------------------------------
+int vtkSightlineMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineMapper::UpdateScene()
+{
+  if (this->GetNumberOfInputConnections(0) < 1)
+  {
+    vtkErrorMacro(<< "No input connection: set one with SetInputConnection or SetInputDataObject.");
+    return false;
+  }
+  if (!this->Static)
+  {
+    this->GetInputAlgorithm()->Update();
+  }
+  vtkDataObject* input = this->GetInputDataObject(0, 0);
+  if (!input)
+  {
+    vtkErrorMacro(<< "The input is null.");
+    return false;
+  }
+
+  vtkMTimeType changed = std::max(this->GetMTime(), input->GetMTime());
+  if (this->ScalarVisibility && this->LookupTable)
+  {
+    changed = std::max(changed, this->LookupTable->GetMTime());
+  }
+  vtkInternals& in = *this->Internals;
+  if (changed > in.BuildTime.GetMTime())
+  {
+    in.Scene.reset();
+    in.Geometry.reset();
+    vtkMath::UninitializeBounds(in.Bounds);
+    try
+    {
+      in.Geometry = this->BuildGeometry();
+      if (in.Geometry && in.Geometry->size() > 0)
+      {
+        auto scene = std::make_unique<sightline::EmbreeScene>();
+        scene->add(in.Geometry);
+        scene->commit();
+        this->LastBuildSeconds = scene->buildSeconds();
+        in.Scene = std::move(scene);
+        const sightline::Box3 box = in.Geometry->bounds();
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          in.Bounds[2 * axis] = box.lower[axis];
+          in.Bounds[2 * axis + 1] = box.upper[axis];
+        }
+      }
+    }
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< "Could not build the ray-tracing scene: " << e.what());
+      in.Geometry.reset();
+      in.Scene.reset();
+    }
+    in.BuildTime.Modified();
+    in.FrameKey.clear();
+  }
+  return in.Scene != nullptr;
+}
+
+//------------------------------------------------------------------------------
+double* vtkSightlineMapper::GetBounds()
+{
+  // UpdateScene reports a missing input: a renderer asks for bounds before it draws, and an
+  // actor without bounds is culled before Render() could say why.
+  this->UpdateScene();
+  std::copy(this->Internals->Bounds, this->Internals->Bounds + 6, this->Bounds);
+  return this->Bounds;
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkSightlineMapper::GetNumberOfPrimitives()
+{
+  const auto& geometry = this->Internals->Geometry;
+  return geometry ? static_cast<vtkIdType>(geometry->size()) : 0;
+}
+
+//------------------------------------------------------------------------------
+sightline::Lighting vtkSightlineMapper::MakeLighting(vtkLightCollection* lights, vtkCamera* camera)
+{
+  double position[3], focal[3];
+  camera->GetPosition(position);
+  camera->GetFocalPoint(focal);
+  const sightline::vec3 viewDirection(
+    focal[0] - position[0], focal[1] - position[1], focal[2] - position[2]);
+  if (!lights || lights->GetNumberOfItems() == 0)
+  {
+    return sightline::Lighting::headlight(viewDirection);
+  }
+
+  sightline::Lighting lighting;
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (!light->GetSwitch())
+    {
+      continue;
+    }
+    double from[3], to[3];
+    if (light->LightTypeIsHeadlight())
+    {
+      std::copy(position, position + 3, from);
+      std::copy(focal, focal + 3, to);
+    }
+    else if (light->LightTypeIsCameraLight())
+    {
+      // Camera lights are given in the camera's frame; VTK moves them with the camera.
+      vtkMatrix4x4* m = camera->GetCameraLightTransformMatrix();
+      double p[4] = { 0, 0, 0, 1 }, f[4] = { 0, 0, 0, 1 };
+      light->GetPosition(p);
+      light->GetFocalPoint(f);
+      m->MultiplyPoint(p, p);
+      m->MultiplyPoint(f, f);
+      for (int i = 0; i < 3; ++i)
+      {
+        from[i] = p[i] / p[3];
+        to[i] = f[i] / f[3];
+      }
+    }
+    else
+    {
+      light->GetTransformedPosition(from);
+      light->GetTransformedFocalPoint(to);
+    }
+    const sightline::vec3 direction(to[0] - from[0], to[1] - from[1], to[2] - from[2]);
+    if (glm::length(direction) == 0.0f)
+    {
+      continue;
+    }
+    double color[3];
+    light->GetDiffuseColor(color);
+    lighting.lights.push_back({ glm::normalize(direction),
+      sightline::vec3(color[0], color[1], color[2]), static_cast<float>(light->GetIntensity()) });
+  }
+  return lighting;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCollection* lights,
+  int width, int height, sightline::Framebuffer& framebuffer)
+{
+  if (!actor || !camera)
+  {
+    vtkErrorMacro(<< "RayTrace needs an actor and a camera.");
+    return false;
+  }
+  if (width <= 0 || height <= 0)
+  {
+    vtkErrorMacro(<< "Cannot ray-trace an image of " << width << "x" << height << " pixels.");
+    return false;
+  }
+  framebuffer.resize(width, height);
+  if (!this->UpdateScene())
+  {
+    return false;
+  }
+  if (actor->GetProperty()->GetOpacity() < 1.0 && !this->Internals->WarnedOpacity)
+  {
+    vtkWarningMacro(<< "Property opacity " << actor->GetProperty()->GetOpacity()
+                    << " is not supported yet; the primitives are rendered opaque.");
+    this->Internals->WarnedOpacity = true;
+  }
+  if (lights && !this->Internals->WarnedPositionalLight)
+  {
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      if (light->GetSwitch() && light->GetPositional())
+      {
+        vtkWarningMacro(<< "Positional lights are treated as directional lights along their axis.");
+        this->Internals->WarnedPositionalLight = true;
+        break;
+      }
+    }
+  }
+
+  vtkInternals& in = *this->Internals;
+  in.Geometry->material = MaterialFromProperty(actor->GetProperty());
+  const sightline::dmat4 worldToClip =
+    ToGlm(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1));
+  sightline::RenderOptions options;
+  options.objectToWorld = ToGlm(actor->GetMatrix());
+  options.progress = [this](double fraction)
+  {
+    this->UpdateProgress(fraction);
+    return !this->AbortExecute;
+  };
+  try
+  {
+    const sightline::Camera view(worldToClip * options.objectToWorld, width, height);
+    const sightline::RenderStatistics stats = sightline::Renderer().render(
+      *in.Scene, view, MakeLighting(lights, camera), framebuffer, options);
+    this->LastFrameSeconds = stats.seconds;
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "Ray tracing failed: " << e.what());
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
+{
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  renderer->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width <= 0 || height <= 0)
+  {
+    vtkWarningMacro(<< "The viewport has no pixels (" << width << "x" << height
+                    << "); nothing to ray-trace.");
+    return;
+  }
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!window)
+  {
+    vtkErrorMacro(<< "vtkSightlineMapper needs an OpenGL render window.");
+    return;
+  }
+  vtkCamera* camera = renderer->GetActiveCamera();
+  vtkInternals& in = *this->Internals;
+
+  this->InvokeEvent(vtkCommand::StartEvent, nullptr);
+  if (!this->UpdateScene())
+  {
+    this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+    return;
+  }
+
+  // Trace fewer rays while the user drags; the still frame afterwards has every pixel.
+  const int step =
+    window->GetDesiredUpdateRate() > this->InteractiveUpdateRate ? this->InteractiveSubsampling : 1;
+  const int traceWidth = (width + step - 1) / step;
+  const int traceHeight = (height + step - 1) / step;
+
+  // Everything the frame depends on; an unchanged key reuses the last image.
+  std::vector<double> key;
+  vtkMatrix4x4* projection =
+    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
+  key.insert(key.end(), &projection->Element[0][0], &projection->Element[0][0] + 16);
+  vtkMatrix4x4* model = actor->GetMatrix();
+  key.insert(key.end(), &model->Element[0][0], &model->Element[0][0] + 16);
+  key.push_back(traceWidth);
+  key.push_back(traceHeight);
+  key.push_back(static_cast<double>(in.BuildTime.GetMTime()));
+  key.push_back(static_cast<double>(actor->GetProperty()->GetMTime()));
+  for (const auto& light : MakeLighting(renderer->GetLights(), camera).lights)
+  {
+    key.insert(key.end(), { light.direction.x, light.direction.y, light.direction.z, light.color.r,
+                            light.color.g, light.color.b, light.intensity });
+  }
+
+  if (key != in.FrameKey)
+  {
+    in.FrameKey.clear();
+    if (!this->RayTrace(actor, camera, renderer->GetLights(), traceWidth, traceHeight, in.Frame))
+    {
+      this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+      return;
+    }
+    in.Rgba = in.Frame.toRGBA8(sightline::vec3(0.0f));
+    in.TexturesCurrent = false;
+    in.FrameKey = key;
+  }
+
+  // Upload colour (RGBA8) and window depth (R32F) and draw them with a full-viewport quad.
+  if (!in.TexturesCurrent || in.ColorTexture->GetContext() != window)
+  {
+    for (vtkTextureObject* texture : { in.ColorTexture.Get(), in.DepthTexture.Get() })
+    {
+      texture->SetContext(window);
+      texture->SetMinificationFilter(vtkTextureObject::Nearest);
+      texture->SetMagnificationFilter(vtkTextureObject::Nearest);
+      texture->SetWrapS(vtkTextureObject::ClampToEdge);
+      texture->SetWrapT(vtkTextureObject::ClampToEdge);
+    }
+    in.ColorTexture->Create2DFromRaw(
+      traceWidth, traceHeight, 4, VTK_UNSIGNED_CHAR, in.Rgba.data());
+    in.DepthTexture->Create2DFromRaw(
+      traceWidth, traceHeight, 1, VTK_FLOAT, in.Frame.Depth.data());
+    in.TexturesCurrent = true;
+  }
+
+  if (!in.Quad)
+  {
+    std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
+    vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", QuadFragmentDeclarations);
+    vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", QuadFragmentImplementation);
+    in.Quad = std::make_unique<vtkOpenGLQuadHelper>(window,
+      vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fragment.c_str(), "");
+  }
+  else
+  {
+    window->GetShaderCache()->ReadyShaderProgram(in.Quad->Program);
+  }
+  if (!in.Quad->Program || !in.Quad->Program->GetCompiled())
+  {
+    vtkErrorMacro(<< "Could not compile the compositing shader.");
+    this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+    return;
+  }
+
+  vtkOpenGLState* state = window->GetState();
+  vtkOpenGLState::ScopedglDepthMask depthMask(state);
+  vtkOpenGLState::ScopedglDepthFunc depthFunc(state);
+  state->vtkglEnable(GL_DEPTH_TEST);
+  state->vtkglDepthMask(GL_TRUE);
+  state->vtkglDepthFunc(GL_LEQUAL);
+
+  in.ColorTexture->Activate();
+  in.DepthTexture->Activate();
+  in.Quad->Program->SetUniformi("colorTexture", in.ColorTexture->GetTextureUnit());
+  in.Quad->Program->SetUniformi("depthTexture", in.DepthTexture->GetTextureUnit());
+  in.Quad->Render();
+  in.DepthTexture->Deactivate();
+  in.ColorTexture->Deactivate();
+
+  this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  vtkInternals& in = *this->Internals;
+  in.ColorTexture->ReleaseGraphicsResources(window);
+  in.DepthTexture->ReleaseGraphicsResources(window);
+  if (in.Quad)
+  {
+    in.Quad->ReleaseGraphicsResources(window);
+    in.Quad.reset();
+  }
+  in.TexturesCurrent = false;
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "InteractiveSubsampling: " << this->InteractiveSubsampling << "\n";
+  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
+  os << indent << "NumberOfPrimitives: "
+     << (this->Internals->Geometry ? this->Internals->Geometry->size() : 0) << "\n";
+  os << indent << "LastBuildSeconds: " << this->LastBuildSeconds << "\n";
+  os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";
+}

@@ -1,0 +1,160 @@
+/**
+ * @class   vtkSightlineMapper
+ * @brief   Abstract mapper that ray-traces exact primitives into a VTK render window.
+ *
+ * vtkSightlineMapper is the pattern every Sightline primitive follows. A subclass only turns
+ * its input into a kernel geometry (BuildGeometry()); this class owns everything else:
+ *
+ * - an Embree BVH over the geometry, rebuilt only when the input, the mapper or its lookup
+ *   table change;
+ * - ray tracing with the renderer's active camera at the viewport's size, through the same
+ *   world-to-clip matrix VTK's OpenGL rendering uses (actor transforms, parallel projection,
+ *   window centre and view shear included), with the renderer's lights and the actor's
+ *   vtkProperty;
+ * - writing colour and depth into the OpenGL frame with a full-viewport quad, so the
+ *   ray-traced primitives are depth-composited with ordinary VTK actors in either order;
+ * - the GL-free path (RayTrace()), used by vtkSightlineImageRenderer, which produces the same
+ *   pixels without a window.
+ *
+ * Frames are cached: redrawing an unchanged view re-uses the last image. While the window
+ * asks for an interactive frame rate (vtkRenderWindow::GetDesiredUpdateRate() above
+ * InteractiveUpdateRate) the mapper traces every InteractiveSubsampling-th pixel in each
+ * direction and upsamples, then traces the full image once interaction stops.
+ *
+ * Progress: ProgressEvent is invoked (on the calling thread) while a frame is traced.
+ *
+ * Limitations: vtkProperty opacity below 1 is not supported yet (rendered opaque, with a
+ * warning); positional and spot lights are treated as directional lights along their axis.
+ *
+ * @sa vtkSightlineSphereMapper vtkSightlineImageRenderer
+ */
+#ifndef vtkSightlineMapper_h
+#define vtkSightlineMapper_h
+
+#include "SightlineRenderingModule.h" // for export macro
+#include "vtkMapper.h"
+
+#ifndef __VTK_WRAP__
+#include <memory> // for std::shared_ptr
+namespace sightline
+{
+class Framebuffer;
+class Geometry;
+struct Lighting;
+}
+#endif
+
+class vtkCamera;
+class vtkLightCollection;
+
+class SIGHTLINERENDERING_EXPORT vtkSightlineMapper : public vtkMapper
+{
+public:
+  vtkTypeMacro(vtkSightlineMapper, vtkMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Ray-trace the primitives for this actor and draw colour and depth into the current
+   * viewport. Called by vtkActor during the opaque pass.
+   */
+  void Render(vtkRenderer* renderer, vtkActor* actor) override;
+
+  /**
+   * Release the OpenGL textures and shader this mapper holds for the window.
+   */
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  /**
+   * Bounds of the primitives (not only of the input points: a sphere's radius counts), so
+   * vtkRenderer::ResetCamera frames them.
+   */
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  using vtkAbstractMapper3D::GetBounds;
+
+  /**
+   * Ray-traced primitives are opaque (see the class documentation).
+   */
+  bool HasOpaqueGeometry() override { return true; }
+  bool HasTranslucentPolygonalGeometry() override { return false; }
+
+  ///@{
+  /**
+   * Pixel step used while the render window asks for an interactive frame rate
+   * (1 disables subsampling). Default 2.
+   */
+  vtkSetClampMacro(InteractiveSubsampling, int, 1, 16);
+  vtkGetMacro(InteractiveSubsampling, int);
+  ///@}
+
+  ///@{
+  /**
+   * Desired update rate (frames per second) above which a frame counts as interactive.
+   * vtkRenderWindowInteractor asks for 15 while the user drags and 0.0001 when still.
+   * Default 1.
+   */
+  vtkSetMacro(InteractiveUpdateRate, double);
+  vtkGetMacro(InteractiveUpdateRate, double);
+  ///@}
+
+  /**
+   * Number of primitives in the last geometry built from the input (after invalid ones
+   * were dropped).
+   */
+  vtkIdType GetNumberOfPrimitives();
+
+  /**
+   * Seconds the last ray-traced frame took, and the last BVH build.
+   */
+  vtkGetMacro(LastFrameSeconds, double);
+  vtkGetMacro(LastBuildSeconds, double);
+
+#ifndef __VTK_WRAP__
+  /**
+   * GL-free path: ray-trace the primitives of `actor` as `camera` sees them in an image of
+   * width x height pixels (aspect width/height), lit by `lights` (VTK's automatic headlight
+   * when null or empty), into `framebuffer`. Returns false (after reporting an error) if
+   * nothing could be rendered. The window path uses this same function.
+   */
+  bool RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCollection* lights, int width,
+    int height, sightline::Framebuffer& framebuffer);
+
+  /**
+   * The kernel lighting VTK would apply with these lights and this camera: headlights follow
+   * the camera, camera lights are transformed with it, scene lights stay. An empty or null
+   * collection gives VTK's automatic headlight.
+   */
+  static sightline::Lighting MakeLighting(vtkLightCollection* lights, vtkCamera* camera);
+#endif
+
+protected:
+  vtkSightlineMapper();
+  ~vtkSightlineMapper() override;
+
+#ifndef __VTK_WRAP__
+  /**
+   * Build the kernel geometry from the current input. Report bad input with vtkErrorMacro
+   * or vtkWarningMacro naming the problem, and return the valid part (or nullptr when nothing
+   * is valid). Called only when the input, the mapper or the lookup table changed.
+   */
+  virtual std::shared_ptr<sightline::Geometry> BuildGeometry() = 0;
+#endif
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  int InteractiveSubsampling = 2;
+  double InteractiveUpdateRate = 1.0;
+  double LastFrameSeconds = 0.0;
+  double LastBuildSeconds = 0.0;
+
+private:
+  vtkSightlineMapper(const vtkSightlineMapper&) = delete;
+  void operator=(const vtkSightlineMapper&) = delete;
+
+  // Brings the geometry and BVH up to date with the input; false when there is nothing to draw.
+  bool UpdateScene();
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

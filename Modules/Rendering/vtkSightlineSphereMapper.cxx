@@ -1,0 +1,133 @@
+#include "vtkSightlineSphereMapper.h"
+
+#include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "sightline/SphereSet.h"
+
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkSightlineSphereMapper);
+
+//------------------------------------------------------------------------------
+vtkSightlineSphereMapper::vtkSightlineSphereMapper() = default;
+
+//------------------------------------------------------------------------------
+vtkSightlineSphereMapper::~vtkSightlineSphereMapper()
+{
+  this->SetRadiusArrayName(nullptr);
+}
+
+//------------------------------------------------------------------------------
+int vtkSightlineSphereMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<sightline::Geometry> vtkSightlineSphereMapper::BuildGeometry()
+{
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetInputDataObject(0, 0));
+  const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
+  if (count == 0)
+  {
+    vtkWarningMacro(<< "The input has no points: there are no spheres to render.");
+    return nullptr;
+  }
+
+  std::vector<sightline::vec3> centers(count);
+  vtkPoints* points = input->GetPoints();
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    double p[3];
+    points->GetPoint(i, p);
+    centers[i] = sightline::vec3(p[0], p[1], p[2]);
+  }
+
+  std::vector<float> radii;
+  if (this->RadiusArrayName && *this->RadiusArrayName)
+  {
+    vtkDataArray* array = input->GetPointData()->GetArray(this->RadiusArrayName);
+    if (!array)
+    {
+      vtkErrorMacro(<< "The radius array '" << this->RadiusArrayName
+                    << "' is not in the input's point data; using the constant radius "
+                    << this->Radius << ".");
+    }
+    else if (array->GetNumberOfComponents() != 1)
+    {
+      vtkErrorMacro(<< "The radius array '" << this->RadiusArrayName << "' has "
+                    << array->GetNumberOfComponents()
+                    << " components; one radius per point is needed. Using the constant radius "
+                    << this->Radius << ".");
+    }
+    else if (array->GetNumberOfTuples() != count)
+    {
+      vtkErrorMacro(<< "The radius array '" << this->RadiusArrayName << "' has "
+                    << array->GetNumberOfTuples() << " values for " << count
+                    << " points. Using the constant radius " << this->Radius << ".");
+    }
+    else
+    {
+      radii.resize(count);
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        radii[i] = static_cast<float>(array->GetComponent(i, 0) * this->RadiusScale);
+      }
+    }
+  }
+  if (radii.empty() && !(std::isfinite(this->Radius) && this->Radius > 0.0))
+  {
+    vtkErrorMacro(<< "Radius must be positive and finite, got " << this->Radius
+                  << "; no spheres rendered.");
+    return nullptr;
+  }
+
+  std::vector<std::uint32_t> colors;
+  if (this->ScalarVisibility)
+  {
+    int cellFlag = 0;
+    vtkUnsignedCharArray* mapped = this->MapScalars(input, 1.0, cellFlag);
+    if (mapped && !cellFlag && mapped->GetNumberOfTuples() == count &&
+      mapped->GetNumberOfComponents() >= 3)
+    {
+      colors.resize(count);
+      const int components = mapped->GetNumberOfComponents();
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        const unsigned char* c = mapped->GetPointer(i * components);
+        colors[i] = sightline::packRGBA8(c[0], c[1], c[2], components > 3 ? c[3] : 255);
+      }
+    }
+    else if (mapped && cellFlag)
+    {
+      vtkWarningMacro(<< "Cell scalars cannot colour spheres (one per point); using the "
+                         "actor's colour.");
+    }
+  }
+
+  auto spheres = std::make_shared<sightline::SphereSet>(
+    centers, radii, static_cast<float>(this->Radius), colors);
+  for (const std::string& reason : spheres->report().reasons)
+  {
+    vtkWarningMacro(<< reason << ".");
+  }
+  return spheres;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)")
+     << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+}

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs everything Sightline needs from Debian bookworm's packages.
+# Do not add paraview-dev or python3-paraview: they replace Debian's VTK 9.1.
+set -euo pipefail
+packages=(
+  cmake ninja-build g++ pkg-config
+  libvtk9-dev python3-vtk9            # VTK 9.1 and its Python bindings (for /usr/bin/python3)
+  libembree-dev libglm-dev libtbb-dev libopenimageio-dev openimageio-tools
+  libgtest-dev libgmock-dev libbenchmark-dev
+  xvfb xauth libgl1-mesa-dri          # offscreen OpenGL for VTK's X-only build
+  python3-numpy python3-matplotlib    # Python tests and benchmark plots
+  python3-dipy python3-nibabel        # real data: DIPY's tractography, NIfTI/TrackVis readers
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "All Debian packages Sightline needs are installed."
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -q
+$sudo apt-get install -y -q --no-install-recommends "${missing[@]}"

@@ -27,7 +27,7 @@ public:
   std::vector<vec4> Color;
   /// Window depth in [0, 1] (1 where nothing was hit), ready for gl_FragDepth.
   std::vector<float> Depth;
-  /// Distance along the unit-length primary ray from the near plane (infinity on a miss).
+  /// World-space distance along the primary ray from the near plane (infinity on a miss).
   std::vector<float> Distance;
 
   /// 8-bit RGBA composited over a background colour, bottom row first. Colours are clamped to

@@ -76,10 +76,17 @@ std::vector<std::uint8_t> readImageRGBA8(const std::string& path, int& width, in
     {
       const std::uint8_t* src = &file[(std::size_t(height - 1 - y) * width + x) * channels];
       std::uint8_t* dst = &rgba[(std::size_t(y) * width + x) * 4];
-      for (int c = 0; c < std::min(channels, 4); ++c)
-        dst[c] = src[c];
-      if (channels < 3)
-        dst[1] = dst[2] = src[0];
+      if (channels < 3) // grey, optionally with alpha
+      {
+        dst[0] = dst[1] = dst[2] = src[0];
+        if (channels == 2)
+          dst[3] = src[1];
+      }
+      else
+      {
+        for (int c = 0; c < std::min(channels, 4); ++c)
+          dst[c] = src[c];
+      }
     }
   return rgba;
 }

@@ -55,7 +55,10 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb)
   const std::size_t i = fb.index(x, y);
   fb.Color[i] = vec4(rgb, m.opacity);
   fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(hitObject), 0.0, 1.0));
-  fb.Distance[i] = t;
+  // t is in the scene's units; the framebuffer keeps world distances.
+  fb.Distance[i] = frame.identityTransform
+    ? t
+    : float(t * glm::length(glm::dmat3(frame.objectToWorld) * dvec3(ray.direction)));
   return true;
 }
 } // namespace

@@ -1,0 +1,160 @@
+#!/usr/bin/python3
+"""Plots the CSV files written by sightline-benchmark.
+
+For each <scene>.csv, writes <scene>.png next to it (or to --output): the median frame time
+(log scale) of every method against its image error (mean RGB difference and coverage
+difference against the reference method), and a bar chart of the bytes each method holds per
+primitive. Needs matplotlib (Debian: python3-matplotlib); run with /usr/bin/python3.
+
+    /usr/bin/python3 plot_benchmarks.py RESULTS/spheres.csv [MORE.csv ...] [--output FILE.png]
+"""
+
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")  # no display needed
+import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
+
+
+def number(text):
+    """A CSV number, or None for an empty (not measured) field."""
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        return None
+    return value if math.isfinite(value) else None
+
+
+def read_rows(path):
+    with open(path, newline="") as stream:
+        return [row for row in csv.DictReader(stream)]
+
+
+def method_colors(methods):
+    palette = plt.get_cmap("tab10")
+    return {method: palette(i % 10) for i, method in enumerate(methods)}
+
+
+def short_count(count):
+    count = int(count)
+    if count >= 1000000 and count % 1000000 == 0:
+        return f"{count // 1000000}M"
+    if count >= 1000 and count % 1000 == 0:
+        return f"{count // 1000}k"
+    return str(count)
+
+
+def plot_time_against_error(axis, rows, colors, markers, error_column, error_label):
+    largest_error = 0.0
+    labels_near = {}  # methods often coincide (sightline and sightline-window): stack labels
+    for row in rows:
+        time = number(row["frame_seconds_median"])
+        error = number(row[error_column])
+        if time is None or error is None:
+            continue
+        largest_error = max(largest_error, error)
+        axis.scatter(error, time, color=colors[row["method"]], marker=markers[row["primitives"]],
+                     s=60, edgecolors="black", linewidths=0.5, zorder=3)
+        near = (round(math.log10(time) * 12), round(math.asinh(error / 0.01) * 2))
+        stacked = labels_near.get(near, 0)
+        labels_near[near] = stacked + 1
+        axis.annotate(f"{row['method']} ({short_count(row['primitives'])})", (error, time),
+                      textcoords="offset points", xytext=(6, 4 - 9 * stacked), fontsize=7)
+    axis.set_yscale("log")
+    # The reference has zero error by definition: a symmetric-log axis shows it next to the rest.
+    # Margins keep the markers at zero and at the largest error inside the axes.
+    axis.set_xscale("symlog", linthresh=0.01)
+    axis.set_xlim(left=-0.003, right=max(0.1, largest_error * 4.0))
+    axis.set_xlabel(error_label)
+    axis.set_ylabel("median frame time [s] (log)")
+    axis.grid(True, which="both", alpha=0.3)
+
+
+def plot_bytes(axis, rows, colors, counts):
+    methods = list(dict.fromkeys(row["method"] for row in rows))
+    width = 0.8 / max(1, len(counts))
+    for c, count in enumerate(counts):
+        by_method = {row["method"]: number(row["bytes_per_primitive"])
+                     for row in rows if row["primitives"] == count}
+        for m, method in enumerate(methods):
+            value = by_method.get(method)
+            if value is None:
+                continue
+            bar = axis.bar(m + (c - (len(counts) - 1) / 2) * width, value, width,
+                           color=colors[method], edgecolor="black", linewidth=0.5,
+                           hatch=None if c == 0 else "//")
+            axis.bar_label(bar, fmt="%.0f", fontsize=6, padding=1)
+    axis.set_xticks(range(len(methods)))
+    axis.set_xticklabels(methods, rotation=30, ha="right", fontsize=8)
+    axis.set_yscale("log")
+    axis.set_ylabel("bytes per primitive (log)")
+    axis.set_title("memory: " + ", ".join(f"{short_count(c)}" + ("" if i == 0 else " (hatched)")
+                                          for i, c in enumerate(counts)), fontsize=9)
+    axis.grid(True, axis="y", which="both", alpha=0.3)
+
+
+def plot_csv(path, output):
+    rows = read_rows(path)
+    if not rows:
+        raise SystemExit(f"{path}: no rows")
+    measured = [row for row in rows if row["status"] != "skipped"]
+    scene = rows[0]["scene"]
+    methods = list(dict.fromkeys(row["method"] for row in rows))
+    counts = list(dict.fromkeys(row["primitives"] for row in rows))
+    colors = method_colors(methods)
+    marker_cycle = ["o", "s", "^", "D", "v", "P"]
+    markers = {count: marker_cycle[i % len(marker_cycle)] for i, count in enumerate(counts)}
+
+    figure, axes = plt.subplots(1, 3, figsize=(18, 6))
+    plot_time_against_error(axes[0], measured, colors, markers, "rgb_mean_abs_diff",
+                            "mean |RGB difference| to the reference (0-255)")
+    plot_time_against_error(axes[1], measured, colors, markers, "coverage_diff_percent",
+                            "pixels whose coverage differs from the reference [%]")
+    plot_bytes(axes[2], measured, colors, counts)
+    axes[0].set_title("frame time against colour error", fontsize=9)
+    axes[1].set_title("frame time against silhouette (coverage) error", fontsize=9)
+
+    first = rows[0]
+    skipped = [f"{row['method']} ({short_count(row['primitives'])})"
+               for row in rows if row["status"] == "skipped"]
+    figure.suptitle(
+        f"sightline-benchmark '{scene}', {first['width']}x{first['height']}, "
+        f"counts {', '.join(short_count(c) for c in counts)} (markers "
+        + ", ".join(f"{markers[c]} {short_count(c)}" for c in counts) + ")\n"
+        f"{first['cpu_model']}, {first['logical_cores']} cores, {first['tbb_threads']} TBB threads;"
+        f" OpenGL: {first['gl_renderer']}"
+        + (f"\nskipped: {', '.join(skipped)}" if skipped else ""),
+        fontsize=9)
+    figure.tight_layout()
+    figure.savefig(output, dpi=110)
+    plt.close(figure)
+    print(f"plot: {output}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("csv", nargs="+", help="CSV files written by sightline-benchmark")
+    parser.add_argument("--output", help="output PNG (only with a single CSV); "
+                        "default <csv directory>/<scene>.png")
+    arguments = parser.parse_args()
+    if arguments.output and len(arguments.csv) != 1:
+        parser.error("--output needs exactly one CSV")
+    for path in arguments.csv:
+        if arguments.output:
+            output = arguments.output
+        else:
+            rows = read_rows(path)
+            scene = rows[0]["scene"] if rows else os.path.splitext(os.path.basename(path))[0]
+            output = os.path.join(os.path.dirname(os.path.abspath(path)), scene + ".png")
+        plot_csv(path, output)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

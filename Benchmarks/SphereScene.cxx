@@ -142,19 +142,6 @@ vtkSmartPointer<vtkActor> makeSightlineActor(const Spheres& spheres)
   return actor;
 }
 
-sightline::dmat4 toGlm(vtkMatrix4x4* m)
-{
-  sightline::dmat4 g;
-  for (int row = 0; row < 4; ++row)
-  {
-    for (int col = 0; col < 4; ++col)
-    {
-      g[col][row] = m->GetElement(row, col); // GLM is column-major
-    }
-  }
-  return g;
-}
-
 std::string formatSeconds(double seconds)
 {
   std::ostringstream s;
@@ -279,7 +266,7 @@ MethodResult runEmbreeBuiltin(
   std::unique_ptr<sightline::EmbreeScene> scene;
   const int width = options.width, height = options.height;
   const sightline::Camera view(
-    toGlm(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1)), width,
+    vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1)), width,
     height);
   double position[3], focal[3];
   camera->GetPosition(position);

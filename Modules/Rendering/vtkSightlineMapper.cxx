@@ -56,15 +56,6 @@ public:
 
 namespace
 {
-sightline::dmat4 ToGlm(vtkMatrix4x4* m)
-{
-  sightline::dmat4 g;
-  for (int row = 0; row < 4; ++row)
-    for (int col = 0; col < 4; ++col)
-      g[col][row] = m->GetElement(row, col); // GLM is column-major
-  return g;
-}
-
 sightline::Material MaterialFromProperty(vtkProperty* p)
 {
   sightline::Material m;
@@ -187,6 +178,20 @@ vtkIdType vtkSightlineMapper::GetNumberOfPrimitives()
 }
 
 //------------------------------------------------------------------------------
+glm::dmat4 vtkSightlineMapper::ToKernelMatrix(vtkMatrix4x4* matrix)
+{
+  glm::dmat4 g;
+  for (int row = 0; row < 4; ++row)
+  {
+    for (int col = 0; col < 4; ++col)
+    {
+      g[col][row] = matrix->GetElement(row, col); // GLM is column-major
+    }
+  }
+  return g;
+}
+
+//------------------------------------------------------------------------------
 sightline::Lighting vtkSightlineMapper::MakeLighting(vtkLightCollection* lights, vtkCamera* camera)
 {
   double position[3], focal[3];
@@ -290,9 +295,9 @@ bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCo
   vtkInternals& in = *this->Internals;
   in.Geometry->material = MaterialFromProperty(actor->GetProperty());
   const sightline::dmat4 worldToClip =
-    ToGlm(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1));
+    vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1));
   sightline::RenderOptions options;
-  options.objectToWorld = ToGlm(actor->GetMatrix());
+  options.objectToWorld = vtkSightlineMapper::ToKernelMatrix(actor->GetMatrix());
   options.progress = [this](double fraction)
   {
     this->UpdateProgress(fraction);

@@ -35,7 +35,8 @@
 #include "vtkMapper.h"
 
 #ifndef __VTK_WRAP__
-#include <memory> // for std::shared_ptr
+#include <glm/mat4x4.hpp> // for glm::dmat4
+#include <memory>          // for std::shared_ptr
 namespace sightline
 {
 class Framebuffer;
@@ -46,6 +47,7 @@ struct Lighting;
 
 class vtkCamera;
 class vtkLightCollection;
+class vtkMatrix4x4;
 
 class SIGHTLINERENDERING_EXPORT vtkSightlineMapper : public vtkMapper
 {
@@ -124,6 +126,11 @@ public:
    * collection gives VTK's automatic headlight.
    */
   static sightline::Lighting MakeLighting(vtkLightCollection* lights, vtkCamera* camera);
+
+  /**
+   * A vtkMatrix4x4 (row-major, column vectors) as the kernel's column-major GLM matrix.
+   */
+  static glm::dmat4 ToKernelMatrix(vtkMatrix4x4* matrix);
 #endif
 
 protected:

@@ -3,6 +3,7 @@
 #include "vtkCamera.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
+#include "vtkSightlineMapper.h"
 
 #include "sightline/Camera.h"
 
@@ -40,14 +41,6 @@ void Configure(vtkCamera* camera, const CameraSetup& s, double parallelScale = 2
   camera->SetClippingRange(s.nearClip, s.farClip);
 }
 
-sightline::dmat4 ToGlm(vtkMatrix4x4* m)
-{
-  sightline::dmat4 g;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c)
-      g[c][r] = m->GetElement(r, c);
-  return g;
-}
 } // namespace
 
 TEST(CameraMatchesVTK, WorldToClipEqualsCompositeProjection)
@@ -92,7 +85,7 @@ TEST(CameraMatchesVTK, RaysProjectOntoPixelCentres)
     camera->SetViewShear(0.05, 0.02, 1.0);
     const int width = int(s.aspectWidth), height = int(s.aspectHeight);
     vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1);
-    const sightline::Camera ours(ToGlm(m), width, height);
+    const sightline::Camera ours(vtkSightlineMapper::ToKernelMatrix(m), width, height);
 
     for (const double px : { 0.5, width / 3.0 + 0.5, width - 0.5 })
     {

@@ -10,6 +10,7 @@ packages=(
   xvfb xauth libgl1-mesa-dri          # offscreen OpenGL for VTK's X-only build
   python3-numpy python3-matplotlib    # Python tests and benchmark plots
   python3-dipy python3-nibabel        # real data: DIPY's tractography, NIfTI/TrackVis readers
+  mrtrix3                             # sh2amp: an independent reference for the MRtrix3 SH basis
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -66,6 +66,9 @@ public:
   bool intersect(RTCRayHit& rayhit, bool coherent = false) const;
   /// Whether anything lies on the ray in [tnear, tfar].
   bool occluded(const Ray& ray) const;
+  /// Total length of the ray segment [tnear, tfar] inside the scene's volume primitives
+  /// (see Geometry::insideLength); `firstEntry` receives where the ray first enters one.
+  double insideLength(const Ray& ray, float& firstEntry) const;
 
 private:
   std::shared_ptr<EmbreeDevice> Device;

@@ -8,6 +8,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -36,12 +37,36 @@ public:
   virtual bool hasPrimitiveColors() const = 0;
   /// Colour of a primitive; only called when hasPrimitiveColors().
   virtual vec3 primitiveColor(unsigned primitive) const = 0;
+  /// Colour at a surface point (scene coordinates), for primitives whose colour varies over
+  /// the surface (glyphs coloured by direction). Only called when hasPrimitiveColors().
+  virtual vec3 surfaceColor(unsigned primitive, const vec3& /*point*/) const
+  {
+    return primitiveColor(primitive);
+  }
+  /// Length of the part of the ray segment [tnear, tfar] inside a primitive, for geometries
+  /// rendered as homogeneous volumes (uncertainty glyphs); `entry` receives the first t inside.
+  /// Geometries without an inside return 0.
+  virtual double insideLength(unsigned /*primitive*/, const Ray& /*ray*/, float& /*entry*/) const
+  {
+    return 0.0;
+  }
   /// Bytes the geometry itself holds (the BVH is counted by the scene).
   virtual std::size_t memoryBytes() const = 0;
   /// Bounds of all primitives (empty box when there are none).
   virtual Box3 bounds() const = 0;
 
   Material material;
+};
+
+/// Embree context of every trace. In a volume query the user geometries do not report hits:
+/// Embree then visits every box along the ray and each primitive adds the length the ray
+/// spends inside it.
+struct TraceContext
+{
+  RTCIntersectContext embree; ///< first member, so Embree's pointer is also ours
+  bool volumeQuery = false;
+  double insideLength = 0.0;
+  float firstEntry = kInfinity;
 };
 
 /// Adapter from a primitive type to Embree's user-geometry callbacks. Derived must provide
@@ -92,10 +117,18 @@ private:
     const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
     RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
     RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    auto* trace = reinterpret_cast<TraceContext*>(args->context);
     for (unsigned i = 0; i < args->N; ++i)
     {
       if (args->valid[i] != -1)
         continue;
+      if (trace->volumeQuery)
+      {
+        float entry = kInfinity;
+        trace->insideLength += self->insideLength(args->primID, loadRay(rays, args->N, i), entry);
+        trace->firstEntry = std::min(trace->firstEntry, entry);
+        continue;
+      }
       SurfaceHit hit;
       if (!self->intersect(args->primID, loadRay(rays, args->N, i), hit))
         continue;

@@ -10,8 +10,39 @@
 
 namespace sightline
 {
+enum class ShadowMode
+{
+  None, ///< no shadow rays at all
+  Hard, ///< one ray towards each directional light
+  Soft, ///< `samples` rays into the cone of a spherical light (angular radius below)
+};
+
+struct ShadowOptions
+{
+  ShadowMode mode = ShadowMode::None;
+  int samples = 16;
+  /// Angular radius (radians) of the spherical light as seen from the scene.
+  float lightAngularRadius = 0.15f;
+  /// Samples are a stratified pattern rotated by a hash of the pixel and this seed, so a
+  /// frame is reproducible bit for bit.
+  unsigned seed = 0;
+};
+
+/// Homogeneous volumes drawn over the surfaces (Peters et al. 2023, Section 4.3): along each
+/// pixel's ray up to the first opaque surface, the length d spent inside the volume geometries
+/// gives transmittance T = exp(-extinction d), and the pixel becomes T * colour + (1 - T) *
+/// emission.
+struct VolumeOptions
+{
+  const EmbreeScene* scene = nullptr; ///< committed scene of volume geometries, or null
+  float extinction = 1.0f;            ///< per unit length of the scene
+  vec3 emission{ 0.5f };
+};
+
 struct RenderOptions
 {
+  ShadowOptions shadows;
+  VolumeOptions volumes;
   /// Tiles are the unit of parallel work; 16x16 pixels keep rays coherent.
   int tileSize = 16;
   /// Transform from the scene's coordinates to world coordinates (a VTK actor's matrix).
@@ -28,6 +59,7 @@ struct RenderStatistics
 {
   double seconds = 0.0;
   std::size_t hits = 0;
+  std::size_t shadowRays = 0;
   bool completed = true;
 };
 

@@ -8,9 +8,22 @@
 
 namespace sightline
 {
+/// How light is reflected.
+enum class ShadingModel
+{
+  Phong, ///< VTK's ambient + Lambert + Blinn-Phong with vtkProperty's parameters
+  /// glTF 2.0's dielectric metallic-roughness BRDF (GGX, height-correlated Smith, Schlick
+  /// Fresnel with F0 = 0.04) plus constant ambient: what Peters et al. use for SH glyphs.
+  GltfDielectric,
+};
+
 /// Surface appearance with vtkProperty's meaning and defaults.
 struct Material
 {
+  ShadingModel model = ShadingModel::Phong;
+  float roughness = 0.45f; ///< perceptual roughness of the glTF model
+  // In the glTF model `ambient` is the constant ambient term, `diffuse` and `specular` weight
+  // the BRDF's two lobes (1 and 1 for the physically based result).
   vec3 color{ 1.0f };         ///< diffuse colour when a primitive has no colour of its own
   vec3 ambientColor{ 1.0f };  ///< used when the primitive has no colour of its own
   vec3 specularColor{ 1.0f };
@@ -41,6 +54,10 @@ struct Lighting
 /// Colour of a surface point. `normal` must be unit length and face the viewer;
 /// `toViewer` is the unit vector from the point to the eye. A primitive's own colour replaces
 /// the material's ambient and diffuse colours, as VTK does for scalar colouring.
+/// `lightVisibility`, when given, holds one factor in [0, 1] per light (its unshadowed part).
+/// In the glTF model a light of intensity 1 gives a white Lambertian surface facing it the
+/// same brightness as VTK's Lambert term, so the two models can be swapped.
 vec3 shade(const Material& material, const vec3& ambientColor, const vec3& diffuseColor,
-  const vec3& normal, const vec3& toViewer, const Lighting& lighting);
+  const vec3& normal, const vec3& toViewer, const Lighting& lighting,
+  const float* lightVisibility = nullptr);
 } // namespace sightline

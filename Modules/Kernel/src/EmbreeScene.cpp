@@ -150,20 +150,31 @@ RTCRayHit makeRayHit(const Ray& ray)
 
 bool EmbreeScene::intersect(RTCRayHit& rayhit, bool coherent) const
 {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
   if (coherent)
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect1(Scene, &context, &rayhit);
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1(Scene, &context.embree, &rayhit);
   return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const
 {
   RTCRayHit rh = makeRayHit(ray);
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  rtcOccluded1(Scene, &context, &rh.ray);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  rtcOccluded1(Scene, &context.embree, &rh.ray);
   return rh.ray.tfar < 0.0f;
+}
+
+double EmbreeScene::insideLength(const Ray& ray, float& firstEntry) const
+{
+  RTCRayHit rh = makeRayHit(ray);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.volumeQuery = true;
+  rtcIntersect1(Scene, &context.embree, &rh);
+  firstEntry = context.firstEntry;
+  return context.insideLength;
 }
 } // namespace sightline

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <functional>
 
 namespace sightline
@@ -18,48 +20,164 @@ struct FrameContext
   const EmbreeScene& scene;
   const Camera& camera;
   const Lighting& lighting;
+  const RenderOptions& options;
   dmat4 objectToWorld;
   glm::mat3 normalToWorld;
+  glm::dmat3 worldToObjectDirection;
   bool identityTransform;
 };
 
+constexpr int kMaxShadowedLights = 16;
+
+/// A small integer hash (Jarvis-style xorshift-multiply) for per-pixel sample rotations.
+std::uint32_t hashPixel(std::uint32_t x, std::uint32_t y, std::uint32_t seed)
+{
+  std::uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ seed * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+
+/// Unshadowed fraction of each light at a surface point (scene coordinates).
+void lightVisibility(const FrameContext& frame, const dvec3& point, const vec3& objectNormal,
+  const vec3& worldNormal, int px, int py, float* visibility, std::size_t& shadowRays)
+{
+  const ShadowOptions& shadows = frame.options.shadows;
+  // Leave the surface along the normal by a little more than the hit point's rounding error.
+  const double offset = 1e-5 * (glm::length(point) + 1.0);
+  const dvec3 origin = point + offset * dvec3(objectNormal);
+  const std::size_t lights = std::min<std::size_t>(frame.lighting.lights.size(), kMaxShadowedLights);
+  for (std::size_t i = 0; i < lights; ++i)
+  {
+    const vec3 toLightWorld = -frame.lighting.lights[i].direction;
+    if (glm::dot(worldNormal, toLightWorld) <= 0.0f)
+    {
+      visibility[i] = 0.0f;
+      continue;
+    }
+    auto blocked = [&](const vec3& worldDirection)
+    {
+      Ray ray;
+      ray.origin = vec3(origin);
+      ray.direction = frame.identityTransform
+        ? worldDirection
+        : vec3(glm::normalize(frame.worldToObjectDirection * dvec3(worldDirection)));
+      ray.tnear = 0.0f;
+      ray.tfar = kInfinity;
+      ++shadowRays;
+      return frame.scene.occluded(ray);
+    };
+    if (shadows.mode == ShadowMode::Hard || shadows.samples <= 1)
+    {
+      visibility[i] = blocked(toLightWorld) ? 0.0f : 1.0f;
+      continue;
+    }
+    // Stratified directions in the light's cone, weighted by the cosine at the surface.
+    const vec3 axis = toLightWorld;
+    const vec3 helper = std::abs(axis.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+    const vec3 tangent = glm::normalize(glm::cross(helper, axis));
+    const vec3 bitangent = glm::cross(axis, tangent);
+    const float cosMax = std::cos(shadows.lightAngularRadius);
+    const std::uint32_t h = hashPixel(std::uint32_t(px), std::uint32_t(py), shadows.seed);
+    const float rotation = float(h & 0xffffu) / 65536.0f;
+    const float jitter = float(h >> 16) / 65536.0f;
+    float lit = 0.0f, total = 0.0f;
+    for (int s = 0; s < shadows.samples; ++s)
+    {
+      const float u1 = (float(s) + jitter) / float(shadows.samples);
+      float u2 = float(s) * 0.618034f + rotation;
+      u2 -= std::floor(u2);
+      const float cosTheta = 1.0f - u1 * (1.0f - cosMax);
+      const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+      const float phi = 6.2831853f * u2;
+      const vec3 direction = cosTheta * axis + sinTheta * (std::cos(phi) * tangent + std::sin(phi) * bitangent);
+      const float weight = glm::dot(worldNormal, direction);
+      if (weight <= 0.0f)
+        continue;
+      total += weight;
+      if (!blocked(direction))
+        lit += weight;
+    }
+    visibility[i] = total > 0.0f ? lit / total : 0.0f;
+  }
+  for (std::size_t i = lights; i < frame.lighting.lights.size(); ++i)
+    visibility[i] = 1.0f;
+}
+
 /// Traces the primary ray of pixel (x, y); returns whether it hit.
-bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb)
+bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, std::size_t& shadowRays)
 {
   const Ray ray = frame.camera.primaryRay(x + 0.5, y + 0.5);
   RTCRayHit rh = makeRayHit(ray);
-  if (!frame.scene.intersect(rh, true))
+  const bool hit = frame.scene.intersect(rh, true);
+  const VolumeOptions& volumes = frame.options.volumes;
+  const bool withVolumes = volumes.scene && !volumes.scene->empty();
+  if (!hit && !withVolumes)
     return false;
 
-  const Geometry& geometry = frame.scene.geometry(rh.hit.geomID);
-  const float t = rh.ray.tfar;
-  const dvec3 hitObject = dvec3(ray.origin) + double(t) * dvec3(ray.direction);
-  vec3 normal(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  vec3 toViewer = -ray.direction;
-  if (!frame.identityTransform)
-  {
-    normal = frame.normalToWorld * normal;
-    toViewer = vec3(frame.objectToWorld * dvec4(dvec3(toViewer), 0.0));
-  }
-  normal = glm::normalize(normal);
-  toViewer = glm::normalize(toViewer);
-  if (glm::dot(normal, toViewer) < 0.0f)
-    normal = -normal; // two-sided lighting, as VTK's default
-
-  const Material& m = geometry.material;
-  vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
-  if (geometry.hasPrimitiveColors())
-    ambientColor = diffuseColor = geometry.primitiveColor(rh.hit.primID);
-  const vec3 rgb = shade(m, ambientColor, diffuseColor, normal, toViewer, frame.lighting);
-
   const std::size_t i = fb.index(x, y);
-  fb.Color[i] = vec4(rgb, m.opacity);
-  fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(hitObject), 0.0, 1.0));
+  const double worldScale = frame.identityTransform
+    ? 1.0
+    : glm::length(glm::dmat3(frame.objectToWorld) * dvec3(ray.direction));
+  vec4 color(0.0f);
+  float depthT = kInfinity;
+  if (hit)
+  {
+    const Geometry& geometry = frame.scene.geometry(rh.hit.geomID);
+    const float t = rh.ray.tfar;
+    const dvec3 hitObject = dvec3(ray.origin) + double(t) * dvec3(ray.direction);
+    vec3 objectNormal = glm::normalize(vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    if (glm::dot(objectNormal, ray.direction) > 0.0f)
+      objectNormal = -objectNormal; // two-sided lighting, as VTK's default
+    vec3 normal = objectNormal;
+    vec3 toViewer = -ray.direction;
+    if (!frame.identityTransform)
+    {
+      normal = glm::normalize(frame.normalToWorld * normal);
+      toViewer = glm::normalize(vec3(frame.objectToWorld * dvec4(dvec3(toViewer), 0.0)));
+    }
+
+    const Material& m = geometry.material;
+    vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
+    if (geometry.hasPrimitiveColors())
+      ambientColor = diffuseColor = geometry.surfaceColor(rh.hit.primID, vec3(hitObject));
+    float visibility[kMaxShadowedLights];
+    const bool shadowed = frame.options.shadows.mode != ShadowMode::None && !frame.lighting.lights.empty();
+    if (shadowed)
+      lightVisibility(frame, hitObject, objectNormal, normal, x, y, visibility, shadowRays);
+    const vec3 rgb = shade(m, ambientColor, diffuseColor, normal, toViewer, frame.lighting,
+      shadowed ? visibility : nullptr);
+    color = vec4(rgb, m.opacity);
+    depthT = t;
+  }
+  if (withVolumes)
+  {
+    Ray segment = ray;
+    segment.tfar = hit ? rh.ray.tfar : ray.tfar;
+    float entry = kInfinity;
+    const double inside = volumes.scene->insideLength(segment, entry);
+    if (inside > 0.0)
+    {
+      const float transmittance = float(std::exp(-double(volumes.extinction) * inside * worldScale));
+      if (hit)
+        color = vec4(transmittance * vec3(color) + (1.0f - transmittance) * volumes.emission, color.a);
+      else
+        color = vec4(volumes.emission, 1.0f - transmittance);
+      depthT = std::min(depthT, entry); // the volume's front, so it composites with GL geometry
+    }
+    else if (!hit)
+      return false;
+  }
+
+  const dvec3 depthPoint = dvec3(ray.origin) + double(depthT) * dvec3(ray.direction);
+  fb.Color[i] = color;
+  fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(depthPoint), 0.0, 1.0));
   // t is in the scene's units; the framebuffer keeps world distances.
-  fb.Distance[i] = frame.identityTransform
-    ? t
-    : float(t * glm::length(glm::dmat3(frame.objectToWorld) * dvec3(ray.direction)));
-  return true;
+  fb.Distance[i] = float(depthT * worldScale);
+  return hit;
 }
 } // namespace
 
@@ -73,8 +191,9 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     return stats;
 
   const bool identity = options.objectToWorld == dmat4(1.0);
-  const FrameContext frame{ scene, camera, lighting, options.objectToWorld,
-    glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))), identity };
+  const FrameContext frame{ scene, camera, lighting, options, options.objectToWorld,
+    glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))),
+    glm::inverse(glm::dmat3(options.objectToWorld)), identity };
 
   // Bands of tile rows, rendered one after another so that progress is reported (and a cancel
   // honoured) on the calling thread; tiles within a band run in parallel.
@@ -84,6 +203,7 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
   const int tileRows = (height + tile - 1) / tile;
   const int bands = options.progress ? std::min(tileRows, 16) : 1;
   tbb::combinable<std::size_t> hits([] { return std::size_t(0); });
+  tbb::combinable<std::size_t> shadowRays([] { return std::size_t(0); });
   for (int band = 0; band < bands; ++band)
   {
     const int y0 = (tileRows * band / bands) * tile;
@@ -91,11 +211,12 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     tbb::parallel_for(tbb::blocked_range2d<int>(y0, y1, tile, 0, width, tile),
       [&](const tbb::blocked_range2d<int>& r)
       {
-        std::size_t local = 0;
+        std::size_t local = 0, localShadowRays = 0;
         for (int y = r.rows().begin(); y < r.rows().end(); ++y)
           for (int x = r.cols().begin(); x < r.cols().end(); ++x)
-            local += renderPixel(frame, x, y, framebuffer);
+            local += renderPixel(frame, x, y, framebuffer, localShadowRays);
         hits.local() += local;
+        shadowRays.local() += localShadowRays;
       });
     if (options.progress && !options.progress(double(band + 1) / bands))
     {
@@ -104,6 +225,7 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     }
   }
   stats.hits = hits.combine(std::plus<std::size_t>());
+  stats.shadowRays = shadowRays.combine(std::plus<std::size_t>());
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

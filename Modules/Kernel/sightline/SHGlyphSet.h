@@ -1,0 +1,134 @@
+// N spherical-harmonics glyphs as one Embree user geometry: near-exact boxes for the BVH,
+// the exact root-finding intersection of SHGlyph.h for primary and shadow rays, and the
+// all-intersections query that uncertainty volumes need. The ray-marching methods of the
+// prior work live here too, as options, so that baselines run through the same BVH, camera,
+// shading and image comparison as the exact method.
+#pragma once
+
+#include "sightline/Geometry.h"
+#include "sightline/SHGlyph.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sightline
+{
+/// How a ray is intersected with a glyph.
+enum class SHIntersectionMethod
+{
+  RootFinding, ///< exact: Algorithm 1 of Peters et al. 2023
+  RayMarching, ///< baseline: fixed steps plus bisection (Peeters et al. 2009, van Almsick 2011)
+};
+
+/// Which segment of the ray the marching baseline samples.
+enum class SHMarchingBound
+{
+  Sphere,   ///< the ray inside the bounding sphere (Peeters et al. 2009)
+  Cylinder, ///< a bounding cylinder along the ray, 2R long (van Almsick et al. 2011)
+};
+
+/// Arithmetic of the exact intersection.
+enum class SHPrecision
+{
+  Automatic, ///< float up to order 8, double above (see the stress tests)
+  Float,
+  Double,
+};
+
+/// How glyphs get their base colour.
+enum class SHColoring
+{
+  Material,  ///< the material's colour
+  Direction, ///< |p / |p|| as RGB, the usual colouring of fibre directions
+  PerGlyph,  ///< the colours given to the constructor (e.g. a scalar through a colormap)
+};
+
+struct SHGlyphOptions
+{
+  SHConvention convention;        ///< basis of the input coefficients
+  SHPrecision precision = SHPrecision::Automatic;
+  SHColoring coloring = SHColoring::Direction;
+  /// Drop trailing bands whose coefficients are all zero and intersect with the lower degree.
+  bool trimZeroBands = true;
+  /// Hide negative lobes (points where F < 0) instead of drawing them as surface.
+  bool hideNegativeLobes = false;
+  /// Colour of negative lobes; a negative component keeps the glyph's own colour.
+  vec3 negativeLobeColor{ -1.0f };
+  /// Root tolerance relative to the glyph size; 0 picks the default of the arithmetic.
+  double tolerance = 0.0;
+
+  SHIntersectionMethod method = SHIntersectionMethod::RootFinding;
+  int marchingSteps = 200;
+  int bisectionSteps = 10;
+  SHMarchingBound marchingBound = SHMarchingBound::Cylinder;
+  /// Baselines: use the near-exact boxes in the BVH (true) or the boxes of the bounding sphere.
+  bool marchingUsesTightBoxes = false;
+};
+
+class SHGlyphSet : public UserGeometry<SHGlyphSet>
+{
+public:
+  /// One glyph per centre; `coefficients` holds shCoefficientCount(order) values per glyph in
+  /// `options.convention`, already scaled to world units (a glyph's radius in direction w is
+  /// |F(w)|). `scales` is empty or one factor per glyph; `colors` (RGBA8) is empty or one per
+  /// glyph. Glyphs with non-finite centres, coefficients or scales are dropped and reported in
+  /// report(), as are glyphs whose coefficients are all zero. Throws std::invalid_argument for
+  /// an order that is not even in [0, kMaxGlyphOrder] and for array sizes that do not match.
+  SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float>& coefficients, int order,
+    const SHGlyphOptions& options = {}, const std::vector<float>& scales = {},
+    const std::vector<std::uint32_t>& colors = {});
+
+  std::size_t size() const override { return Glyphs.size(); }
+  bool hasPrimitiveColors() const override { return Options.coloring != SHColoring::Material; }
+  vec3 primitiveColor(unsigned primitive) const override;
+  vec3 surfaceColor(unsigned primitive, const vec3& point) const override;
+  std::size_t memoryBytes() const override;
+  Box3 bounds() const override { return AllBounds; }
+  double insideLength(unsigned primitive, const Ray& ray, float& entry) const override;
+
+  Box3 bounds(unsigned primitive) const { return Glyphs[primitive].box; }
+  bool intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const;
+
+  /// All intersections of a ray with one glyph in [ray.tnear, ray.tfar], ascending; returns
+  /// their number (t has room for kMaxGlyphHits).
+  int allIntersections(unsigned primitive, const Ray& ray, double* t) const;
+
+  const ValidationReport& report() const { return Report; }
+  const std::vector<std::uint32_t>& sourceIndex() const { return SourceIndex; }
+  const SHGlyphOptions& options() const { return Options; }
+  /// Order used for a glyph after dropping zero bands.
+  int order(unsigned primitive) const { return Glyphs[primitive].order; }
+  /// Canonical, scaled coefficients of a glyph (shCoefficientCount(order(primitive)) values).
+  const double* coefficients(unsigned primitive) const
+  {
+    return DoubleCoefficients.data() + Glyphs[primitive].offset;
+  }
+  vec3 center(unsigned primitive) const { return vec3(Glyphs[primitive].center); }
+  /// Seconds spent computing boxes (both cores), for benchmarks.
+  double boundsSeconds() const { return BoundsSeconds; }
+
+private:
+  struct Glyph
+  {
+    dvec3 center;
+    Box3 box;
+    std::uint32_t offset = 0; ///< into the coefficient arrays
+    std::uint8_t order = 0;
+    bool useFloat = false;
+    float boundingRadius = 0.0f; ///< for the marching baselines
+  };
+
+  int exactIntersections(const Glyph& glyph, const Ray& ray, double* t, bool firstOnly) const;
+  int marchingIntersection(const Glyph& glyph, const Ray& ray, double& t) const;
+
+  SHGlyphOptions Options;
+  std::vector<Glyph> Glyphs;
+  std::vector<double> DoubleCoefficients;
+  std::vector<float> FloatCoefficients;
+  std::vector<std::uint32_t> Colors;
+  std::vector<std::uint32_t> SourceIndex;
+  Box3 AllBounds;
+  ValidationReport Report;
+  double BoundsSeconds = 0.0;
+};
+} // namespace sightline

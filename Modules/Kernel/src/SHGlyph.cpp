@@ -1,0 +1,385 @@
+#include "sightline/SHGlyph.h"
+
+#include "sightline/PolynomialRoots.h"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace sightline
+{
+namespace
+{
+constexpr long double kPi = 3.141592653589793238462643383279502884L;
+constexpr int kOrderSlots = kMaxGlyphOrder / 2 + 1;
+
+/// Per-order constants of Algorithm 1, computed once in long double.
+template <class T>
+struct RayTables
+{
+  int order = 0;
+  T u[kMaxGlyphOrder + 1]; ///< sample points (u_l, v_l) on the unit half circle
+  T v[kMaxGlyphOrder + 1];
+  T inverseVandermonde[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
+  /// max over the unit circle of |u^i v^(k-i)| = sqrt(i^i (k-i)^(k-i) / k^k) (Appendix B; the
+  /// factorials in Section 3.5's version of this formula would give a bound that is too small).
+  T circleBound[kMaxGlyphOrder + 1];
+  T binomial[kMaxGlyphOrder + 2]; ///< C(k+1, j)
+
+  explicit RayTables(int k) : order(k)
+  {
+    const int n = k + 1;
+    long double V[kMaxGlyphOrder + 1][2 * (kMaxGlyphOrder + 1)];
+    for (int l = 0; l < n; ++l)
+    {
+      const long double angle = l * kPi / n;
+      const long double ul = std::cos(angle), vl = std::sin(angle);
+      u[l] = T(ul);
+      v[l] = T(vl);
+      for (int i = 0; i < n; ++i)
+      {
+        V[l][i] = std::pow(ul, i) * std::pow(vl, k - i);
+        V[l][n + i] = l == i ? 1.0L : 0.0L;
+      }
+    }
+    // Gauss-Jordan with partial pivoting on [V | I].
+    for (int col = 0; col < n; ++col)
+    {
+      int pivot = col;
+      for (int r = col + 1; r < n; ++r)
+        if (std::abs(V[r][col]) > std::abs(V[pivot][col]))
+          pivot = r;
+      for (int c = 0; c < 2 * n; ++c)
+        std::swap(V[col][c], V[pivot][c]);
+      const long double inv = 1.0L / V[col][col];
+      for (int c = 0; c < 2 * n; ++c)
+        V[col][c] *= inv;
+      for (int r = 0; r < n; ++r)
+        if (r != col && V[r][col] != 0.0L)
+        {
+          const long double factor = V[r][col];
+          for (int c = 0; c < 2 * n; ++c)
+            V[r][c] -= factor * V[col][c];
+        }
+    }
+    for (int i = 0; i < n; ++i)
+      for (int l = 0; l < n; ++l)
+        inverseVandermonde[i][l] = T(V[i][n + l]);
+    for (int i = 0; i < n; ++i)
+    {
+      const long double a = i == 0 ? 1.0L : std::pow((long double)i, i);
+      const long double b = k - i == 0 ? 1.0L : std::pow((long double)(k - i), k - i);
+      circleBound[i] = k == 0 ? T(1) : T(std::sqrt(a * b / std::pow((long double)k, k)));
+    }
+    long double c = 1.0L;
+    for (int j = 0; j <= k + 1; ++j)
+    {
+      binomial[j] = T(c);
+      c = c * (k + 1 - j) / (j + 1);
+    }
+  }
+};
+
+template <class T>
+const RayTables<T>& rayTables(int order)
+{
+  static const auto all = []
+  {
+    std::vector<std::unique_ptr<RayTables<T>>> tables;
+    for (int k = 0; k <= kMaxGlyphOrder; k += 2)
+      tables.push_back(std::make_unique<RayTables<T>>(k));
+    return tables;
+  }();
+  return *all[order / 2];
+}
+
+template <int K, class T>
+int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tolerance, T* t,
+  bool firstOnly)
+{
+  const RayTables<T>& tab = rayTables<T>(K);
+  const T dO = d[0] * o[0] + d[1] * o[1] + d[2] * o[2];
+  T e[3] = { o[0] - dO * d[0], o[1] - dO * d[1], o[2] - dO * d[2] };
+  const T eo = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  if (eo > T(0))
+  {
+    e[0] /= eo;
+    e[1] /= eo;
+    e[2] /= eo;
+  }
+  else
+  {
+    // The ray passes through the centre: the plane is any plane containing d.
+    const int axis = std::abs(d[0]) < std::abs(d[1]) ? (std::abs(d[0]) < std::abs(d[2]) ? 0 : 2)
+                                                     : (std::abs(d[1]) < std::abs(d[2]) ? 1 : 2);
+    T a[3] = { T(0), T(0), T(0) };
+    a[axis] = T(1);
+    e[0] = a[0] - d[axis] * d[0];
+    e[1] = a[1] - d[axis] * d[1];
+    e[2] = a[2] - d[axis] * d[2];
+    const T length = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    e[0] /= length;
+    e[1] /= length;
+    e[2] /= length;
+  }
+
+  // g(u_l, v_l) = F(u_l d + v_l e) on the great circle, then g's coefficients.
+  T samples[K + 1];
+  for (int l = 0; l <= K; ++l)
+    samples[l] = evaluateSHSum<T>(K, b, tab.u[l] * d[0] + tab.v[l] * e[0],
+      tab.u[l] * d[1] + tab.v[l] * e[1], tab.u[l] * d[2] + tab.v[l] * e[2]);
+  T g[K + 1];
+  T gmax = T(0);
+  for (int i = 0; i <= K; ++i)
+  {
+    T sum = T(0);
+    for (int l = 0; l <= K; ++l)
+      sum += tab.inverseVandermonde[i][l] * samples[l];
+    g[i] = sum;
+    gmax += std::abs(sum) * tab.circleBound[i];
+  }
+  // Early out: the ray's distance from the centre exceeds the glyph's bounding circle.
+  if (!(gmax > eo))
+    return 0;
+
+  // In units of gmax: w = (t + d.o) / gmax along the ray, eps = (e.o) / gmax <= 1, and
+  //   P(w) = h(w)^2 - (w^2 + eps^2)^(k+1),  h(w) = sum_i g_i / gmax * eps^(k-i) w^i.
+  const T scale = T(1) / gmax;
+  const T eps = eo * scale;
+  const T eps2 = eps * eps;
+  T h[K + 1];
+  T power = T(1);
+  for (int i = K; i >= 0; --i)
+  {
+    h[i] = g[i] * scale * power;
+    power *= eps;
+  }
+  constexpr int N = 2 * K + 2;
+  T P[N + 1];
+  for (int i = 0; i <= N; ++i)
+    P[i] = T(0);
+  for (int i = 0; i <= K; ++i)
+  {
+    P[2 * i] += h[i] * h[i];
+    for (int j = i + 1; j <= K; ++j)
+      P[i + j] += T(2) * h[i] * h[j];
+  }
+  T eps2Power = T(1); // eps^(2 (k+1-j)), built from j = k+1 downwards
+  for (int j = K + 1; j >= 0; --j)
+  {
+    P[2 * j] -= tab.binomial[j] * eps2Power;
+    eps2Power *= eps2;
+  }
+
+  // Roots lie within the bounding circle |w| <= sqrt(1 - eps^2); the bound is attained for a
+  // sphere, so widen it by a few ulps to keep those roots inside the interval.
+  const T wmax = std::sqrt(std::max(T(0), T(1) - eps2)) * (T(1) + T(16) * std::numeric_limits<T>::epsilon());
+  const T lo = std::max(-wmax, (tmin + dO) * scale);
+  const T hi = std::min(wmax, (tmax + dO) * scale);
+  if (!(lo <= hi))
+    return 0;
+  T roots[N];
+  const int count = polynomialRoots<N, T>(P, lo, hi, tolerance * std::max(wmax, eps), roots, firstOnly);
+  for (int i = 0; i < count; ++i)
+    t[i] = roots[i] * gmax - dO;
+  return count;
+}
+
+/// Spherical Fibonacci directions in the upper hemisphere with the basis evaluated at each.
+struct FibonacciTable
+{
+  int order = 0;
+  int count = 0;
+  std::vector<dvec3> directions;
+  std::vector<double> basis; ///< count x shCoefficientCount(order)
+
+  explicit FibonacciTable(int k) : order(k)
+  {
+    count = 256 * std::max(k, 1);
+    const int stride = shCoefficientCount(k);
+    directions.resize(count);
+    basis.resize(std::size_t(count) * stride);
+    const double golden = 4.0 * double(kPi) / (std::sqrt(5.0) + 1.0);
+    for (int l = 0; l < count; ++l)
+    {
+      const double z = 1.0 - (2.0 * l + 1.0) / (2.0 * count);
+      const double radius = std::sqrt(std::max(0.0, 1.0 - z * z));
+      const double phi = golden * l;
+      directions[l] = dvec3(radius * std::cos(phi), radius * std::sin(phi), z);
+      evaluateSH<double>(k, directions[l].x, directions[l].y, directions[l].z,
+        basis.data() + std::size_t(l) * stride);
+    }
+  }
+};
+
+const FibonacciTable& fibonacciTable(int order)
+{
+  static std::unique_ptr<FibonacciTable> tables[kOrderSlots];
+  static std::once_flag flags[kOrderSlots];
+  std::call_once(flags[order / 2], [order] { tables[order / 2] = std::make_unique<FibonacciTable>(order); });
+  return *tables[order / 2];
+}
+
+void checkGlyphOrder(int order)
+{
+  if (order < 0 || order > kMaxGlyphOrder || order % 2 != 0)
+    throw std::invalid_argument("glyph order " + std::to_string(order) +
+      " is not an even number in [0, " + std::to_string(kMaxGlyphOrder) + "]");
+}
+
+/// Largest |coordinate `axis`| of F(w) w near the direction w0, by Newton's method on the
+/// tangency conditions with p[axis] held at 1 (the paper's formulation, Section 4.2):
+///   n~(w) = F w - (I - w w^T) grad F = 0 in the two other components.
+double refineExtent(int order, const double* b, dvec3 w0, int axis, double best)
+{
+  if (w0[axis] < 0.0)
+    w0 = -w0;
+  if (w0[axis] <= 1e-12)
+    return best;
+  dvec3 p = w0 / w0[axis];
+  const int i0 = (axis + 1) % 3, i1 = (axis + 2) % 3;
+  for (int iteration = 0; iteration < 5; ++iteration)
+  {
+    const double r = glm::length(p);
+    const dvec3 w = p / r;
+    const SHFunctionValue<double> f = evaluateSHFunction<double>(order, b, w.x, w.y, w.z, true);
+    const dvec3 grad(f.gradient[0], f.gradient[1], f.gradient[2]);
+    const auto& hs = f.hessian;
+    const glm::dmat3 H(hs[0], hs[1], hs[2], hs[1], hs[3], hs[4], hs[2], hs[4], hs[5]);
+    const double wg = glm::dot(w, grad);
+    const dvec3 n = f.value * w - grad + w * wg;
+    // dn/dw = (F + w.g) I - H + w (2 g + H w)^T ; dw/dp = (I - w w^T) / r.
+    const glm::dmat3 dndw = (f.value + wg) * glm::dmat3(1.0) - H + glm::outerProduct(w, 2.0 * grad + H * w);
+    const glm::dmat3 dwdp = (glm::dmat3(1.0) - glm::outerProduct(w, w)) / r;
+    const glm::dmat3 J = dndw * dwdp; // J[column][row]
+    const double a = J[i0][i0], bq = J[i1][i0], c = J[i0][i1], d = J[i1][i1];
+    const double det = a * d - bq * c;
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det))
+      break;
+    const double r0 = -n[i0], r1 = -n[i1];
+    p[i0] += (d * r0 - bq * r1) / det;
+    p[i1] += (a * r1 - c * r0) / det;
+    if (!isFinite(vec3(p)))
+      break;
+    const dvec3 wn = glm::normalize(p);
+    const double extent = std::abs(evaluateSHSum<double>(order, b, wn.x, wn.y, wn.z) * wn[axis]);
+    if (extent > best)
+      best = extent;
+  }
+  return best;
+}
+} // namespace
+
+template <class T>
+int intersectSHGlyph(int order, const T* coefficients, const T origin[3], const T direction[3],
+  T tmin, T tmax, T tolerance, T* t, bool firstOnly)
+{
+  switch (order)
+  {
+#define SIGHTLINE_GLYPH_ORDER(K)                                                                     \
+  case K:                                                                                          \
+    return intersectOrder<K, T>(coefficients, origin, direction, tmin, tmax, tolerance, t, firstOnly);
+    SIGHTLINE_GLYPH_ORDER(0)
+    SIGHTLINE_GLYPH_ORDER(2)
+    SIGHTLINE_GLYPH_ORDER(4)
+    SIGHTLINE_GLYPH_ORDER(6)
+    SIGHTLINE_GLYPH_ORDER(8)
+    SIGHTLINE_GLYPH_ORDER(10)
+    SIGHTLINE_GLYPH_ORDER(12)
+    SIGHTLINE_GLYPH_ORDER(14)
+    SIGHTLINE_GLYPH_ORDER(16)
+#undef SIGHTLINE_GLYPH_ORDER
+    default:
+      checkGlyphOrder(order);
+      return 0;
+  }
+}
+
+template int intersectSHGlyph<float>(
+  int, const float*, const float[3], const float[3], float, float, float, float*, bool);
+template int intersectSHGlyph<double>(
+  int, const double*, const double[3], const double[3], double, double, double, double*, bool);
+
+dvec3 shGlyphNormal(int order, const double* b, const dvec3& p, double* value)
+{
+  const double r = glm::length(p);
+  if (!(r > 0.0))
+    return dvec3(0.0);
+  const dvec3 w = p / r;
+  const SHFunctionValue<double> f = evaluateSHFunction<double>(order, b, w.x, w.y, w.z, false);
+  const dvec3 grad(f.gradient[0], f.gradient[1], f.gradient[2]);
+  if (value)
+    *value = f.value;
+  return p - f.value * (grad - w * glm::dot(w, grad)) / r;
+}
+
+bool insideSHGlyph(int order, const double* b, const dvec3& p)
+{
+  const double r = glm::length(p);
+  if (!(r > 0.0))
+    return true;
+  const dvec3 w = p / r;
+  return r < std::abs(evaluateSHSum<double>(order, b, w.x, w.y, w.z));
+}
+
+dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = fibonacciTable(order);
+  const int stride = shCoefficientCount(order);
+  dvec3 best(0.0);
+  int bestIndex[3] = { 0, 0, 0 };
+  const double* row = table.basis.data();
+  for (int l = 0; l < table.count; ++l, row += stride)
+  {
+    double value = 0.0;
+    for (int j = 0; j < stride; ++j)
+      value += b[j] * row[j];
+    const dvec3 point = glm::abs(value * table.directions[l]);
+    for (int axis = 0; axis < 3; ++axis)
+      if (point[axis] > best[axis])
+      {
+        best[axis] = point[axis];
+        bestIndex[axis] = l;
+      }
+  }
+  if (order == 0)
+    return best;
+  for (int axis = 0; axis < 3; ++axis)
+    best[axis] = refineExtent(order, b, table.directions[bestIndex[axis]], axis, best[axis]);
+  return best;
+}
+
+dvec3 shGlyphHalfExtents(int order, const double* b)
+{
+  const double margin = order <= 8 ? 1.025 : 1.035;
+  return margin * shGlyphHalfExtentsUnpadded(order, b);
+}
+
+double shGlyphBoundingRadius(int order, const double* b)
+{
+  // |sum_m b_lm Y_lm| <= |b_l| sqrt(sum_m Y_lm^2) = |b_l| sqrt((2l + 1) / 4 pi) by the
+  // addition theorem.
+  double radius = 0.0;
+  for (int l = 0; l <= order; l += 2)
+  {
+    double norm2 = 0.0;
+    for (int m = -l; m <= l; ++m)
+      norm2 += b[shIndex(l, m)] * b[shIndex(l, m)];
+    radius += std::sqrt(norm2 * (2 * l + 1) / (4.0 * double(kPi)));
+  }
+  return radius;
+}
+
+int shEffectiveOrder(int order, const double* b)
+{
+  for (int l = order; l > 0; l -= 2)
+    for (int m = -l; m <= l; ++m)
+      if (b[shIndex(l, m)] != 0.0)
+        return l;
+  return 0;
+}
+} // namespace sightline

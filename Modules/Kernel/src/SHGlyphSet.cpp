@@ -1,0 +1,301 @@
+#include "sightline/SHGlyphSet.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sightline
+{
+namespace
+{
+vec3 unpackRGB(std::uint32_t c)
+{
+  return vec3(float(c & 0xffu), float((c >> 8) & 0xffu), float((c >> 16) & 0xffu)) / 255.0f;
+}
+
+void addReason(ValidationReport& report, std::size_t& counter, std::size_t index, const char* what)
+{
+  if (counter++ == 0)
+    report.reasons.push_back("glyph " + std::to_string(index) + " " + what +
+      " (first of the glyphs skipped for this reason)");
+  ++report.rejected;
+}
+} // namespace
+
+SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float>& coefficients,
+  int order, const SHGlyphOptions& options, const std::vector<float>& scales,
+  const std::vector<std::uint32_t>& colors)
+  : Options(options)
+{
+  if (order < 0 || order > kMaxGlyphOrder || order % 2 != 0)
+    throw std::invalid_argument("SH glyph order " + std::to_string(order) +
+      " is not an even number in [0, " + std::to_string(kMaxGlyphOrder) + "]");
+  const std::size_t stride = std::size_t(shCoefficientCount(order));
+  const std::size_t n = centers.size();
+  if (coefficients.size() != n * stride)
+    throw std::invalid_argument("SH coefficient array has " + std::to_string(coefficients.size()) +
+      " values; " + std::to_string(n) + " glyphs of order " + std::to_string(order) + " need " +
+      std::to_string(n * stride) + " (" + std::to_string(stride) + " per glyph)");
+  if (!scales.empty() && scales.size() != n)
+    throw std::invalid_argument("SH glyph scale array has " + std::to_string(scales.size()) +
+      " values for " + std::to_string(n) + " glyphs");
+  if (!colors.empty() && colors.size() != n)
+    throw std::invalid_argument("SH glyph colour array has " + std::to_string(colors.size()) +
+      " values for " + std::to_string(n) + " glyphs");
+  if (options.method == SHIntersectionMethod::RayMarching &&
+    (options.marchingSteps < 1 || options.bisectionSteps < 0))
+    throw std::invalid_argument("ray marching needs at least one step");
+
+  const SHConversion conversion = SHConversion::toCanonical(options.convention, order);
+  std::vector<double> canonical(stride);
+  std::size_t nonFinite = 0, allZero = 0;
+  Glyphs.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const float* input = coefficients.data() + i * stride;
+    const float scale = scales.empty() ? 1.0f : scales[i];
+    bool finite = isFinite(centers[i]) && std::isfinite(scale);
+    for (std::size_t j = 0; j < stride && finite; ++j)
+      finite = std::isfinite(input[j]);
+    if (!finite)
+    {
+      addReason(Report, nonFinite, i, "has a non-finite centre, coefficient or scale");
+      continue;
+    }
+    conversion.apply(input, canonical.data());
+    bool zero = true;
+    for (double& c : canonical)
+    {
+      c *= scale;
+      zero = zero && c == 0.0;
+    }
+    if (zero)
+    {
+      addReason(Report, allZero, i, "has only zero coefficients (nothing to draw)");
+      continue;
+    }
+    Glyph glyph;
+    glyph.center = dvec3(centers[i]);
+    glyph.order = std::uint8_t(options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order);
+    glyph.offset = std::uint32_t(DoubleCoefficients.size());
+    glyph.useFloat = options.precision == SHPrecision::Float ||
+      (options.precision == SHPrecision::Automatic && glyph.order <= 8);
+    const int count = shCoefficientCount(glyph.order);
+    DoubleCoefficients.insert(DoubleCoefficients.end(), canonical.begin(), canonical.begin() + count);
+    Glyphs.push_back(glyph);
+    SourceIndex.push_back(std::uint32_t(i));
+    if (!colors.empty())
+      Colors.push_back(colors[i]);
+  }
+  FloatCoefficients.assign(DoubleCoefficients.begin(), DoubleCoefficients.end());
+  if (Options.coloring == SHColoring::PerGlyph && Colors.empty())
+    Options.coloring = SHColoring::Material;
+
+  // Boxes: the near-exact ones (Section 4.2) unless a baseline asks for its bounding sphere.
+  const bool tight = Options.method == SHIntersectionMethod::RootFinding || Options.marchingUsesTightBoxes;
+  const auto start = std::chrono::steady_clock::now();
+  tbb::parallel_for(std::size_t(0), Glyphs.size(), [&](std::size_t i)
+    {
+      Glyph& glyph = Glyphs[i];
+      const double* b = DoubleCoefficients.data() + glyph.offset;
+      glyph.boundingRadius = float(shGlyphBoundingRadius(glyph.order, b));
+      const dvec3 half = tight ? shGlyphHalfExtents(glyph.order, b) : dvec3(glyph.boundingRadius);
+      glyph.box.lower = vec3(glyph.center - half);
+      glyph.box.upper = vec3(glyph.center + half);
+    });
+  BoundsSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const Glyph& glyph : Glyphs)
+    AllBounds.extend(glyph.box);
+}
+
+vec3 SHGlyphSet::primitiveColor(unsigned primitive) const
+{
+  return Colors.empty() ? Options.negativeLobeColor : unpackRGB(Colors[primitive]);
+}
+
+vec3 SHGlyphSet::surfaceColor(unsigned primitive, const vec3& point) const
+{
+  const Glyph& glyph = Glyphs[primitive];
+  const dvec3 p = dvec3(point) - glyph.center;
+  const double r = glm::length(p);
+  const dvec3 w = r > 0.0 ? p / r : dvec3(0.0, 0.0, 1.0);
+  if (Options.negativeLobeColor.x >= 0.0f &&
+    evaluateSHSum<double>(glyph.order, coefficients(primitive), w.x, w.y, w.z) < 0.0)
+    return Options.negativeLobeColor;
+  if (Options.coloring == SHColoring::PerGlyph)
+    return unpackRGB(Colors[primitive]);
+  return vec3(glm::abs(w));
+}
+
+std::size_t SHGlyphSet::memoryBytes() const
+{
+  return Glyphs.capacity() * sizeof(Glyph) + DoubleCoefficients.capacity() * sizeof(double) +
+    FloatCoefficients.capacity() * sizeof(float) + Colors.capacity() * sizeof(std::uint32_t) +
+    SourceIndex.capacity() * sizeof(std::uint32_t);
+}
+
+int SHGlyphSet::exactIntersections(const Glyph& glyph, const Ray& ray, double* t, bool firstOnly) const
+{
+  // The glyph's frame: origin relative to the centre in double (the camera may be far away),
+  // then the arithmetic chosen for this glyph.
+  const dvec3 o = dvec3(ray.origin) - glyph.center;
+  const dvec3 d = dvec3(ray.direction);
+  const double length = glm::length(d);
+  const dvec3 du = d / length;
+  const double tmin = double(ray.tnear) * length, tmax = double(ray.tfar) * length;
+  int count;
+  if (glyph.useFloat)
+  {
+    const float of[3] = { float(o.x), float(o.y), float(o.z) };
+    const float df[3] = { float(du.x), float(du.y), float(du.z) };
+    float tf[kMaxGlyphHits];
+    const float tolerance = Options.tolerance > 0.0 ? float(Options.tolerance) : defaultGlyphTolerance<float>();
+    count = intersectSHGlyph<float>(glyph.order, FloatCoefficients.data() + glyph.offset, of, df,
+      float(tmin), std::min(float(tmax), std::numeric_limits<float>::max()), tolerance, tf, firstOnly);
+    for (int i = 0; i < count; ++i)
+      t[i] = double(tf[i]);
+  }
+  else
+  {
+    const double od[3] = { o.x, o.y, o.z };
+    const double dd[3] = { du.x, du.y, du.z };
+    const double tolerance = Options.tolerance > 0.0 ? Options.tolerance : defaultGlyphTolerance<double>();
+    count = intersectSHGlyph<double>(glyph.order, DoubleCoefficients.data() + glyph.offset, od, dd,
+      tmin, tmax, tolerance, t, firstOnly);
+  }
+  for (int i = 0; i < count; ++i)
+    t[i] /= length;
+  return count;
+}
+
+int SHGlyphSet::marchingIntersection(const Glyph& glyph, const Ray& ray, double& tHit) const
+{
+  const double* b = DoubleCoefficients.data() + glyph.offset;
+  const dvec3 o = dvec3(ray.origin) - glyph.center;
+  const dvec3 d = glm::normalize(dvec3(ray.direction));
+  const double length = glm::length(dvec3(ray.direction));
+  const double R = glyph.boundingRadius;
+  const double dO = glm::dot(d, o);
+  const double eo2 = glm::dot(o, o) - dO * dO;
+  if (eo2 >= R * R)
+    return 0;
+  const double half = Options.marchingBound == SHMarchingBound::Sphere ? std::sqrt(R * R - eo2) : R;
+  const double t0 = -dO - half, t1 = -dO + half;
+  const double step = (t1 - t0) / Options.marchingSteps;
+  const double tmin = double(ray.tnear) * length, tmax = double(ray.tfar) * length;
+  const bool positiveOnly = Options.hideNegativeLobes;
+  auto inside = [&](double t)
+  {
+    const dvec3 p = o + t * d;
+    const double r = glm::length(p);
+    if (!(r > 0.0))
+      return true;
+    const double value = evaluateSHSum<double>(glyph.order, b, p.x / r, p.y / r, p.z / r);
+    return r < (positiveOnly ? value : std::abs(value));
+  };
+  bool previousInside = true; // a sample can only hit after an outside sample
+  double previous = t0;
+  for (int i = 0; i <= Options.marchingSteps; ++i)
+  {
+    const double t = t0 + i * step;
+    if (t < tmin)
+      continue;
+    if (t > tmax)
+      break;
+    const bool now = inside(t);
+    if (now && !previousInside)
+    {
+      double a = previous, c = t; // bisection: a outside, c inside
+      for (int j = 0; j < Options.bisectionSteps; ++j)
+      {
+        const double m = 0.5 * (a + c);
+        (inside(m) ? c : a) = m;
+      }
+      tHit = c / length;
+      return 1;
+    }
+    previousInside = now;
+    previous = t;
+  }
+  return 0;
+}
+
+bool SHGlyphSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const
+{
+  const Glyph& glyph = Glyphs[primitive];
+  double t[kMaxGlyphHits];
+  int count;
+  int chosen = 0;
+  if (Options.method == SHIntersectionMethod::RayMarching)
+    count = marchingIntersection(glyph, ray, t[0]);
+  else if (!Options.hideNegativeLobes)
+    count = exactIntersections(glyph, ray, t, true);
+  else
+  {
+    // Keep the first intersection with a positive lobe.
+    count = exactIntersections(glyph, ray, t, false);
+    const double* b = coefficients(primitive);
+    for (chosen = 0; chosen < count; ++chosen)
+    {
+      const dvec3 p = dvec3(ray.origin) - glyph.center + t[chosen] * dvec3(ray.direction);
+      const dvec3 w = glm::normalize(p);
+      if (evaluateSHSum<double>(glyph.order, b, w.x, w.y, w.z) > 0.0)
+        break;
+    }
+  }
+  if (chosen >= count || !(t[chosen] > double(ray.tnear)) || !(t[chosen] < double(ray.tfar)))
+    return false;
+  const dvec3 p = dvec3(ray.origin) - glyph.center + t[chosen] * dvec3(ray.direction);
+  hit.t = float(t[chosen]);
+  hit.normal = vec3(shGlyphNormal(glyph.order, coefficients(primitive), p));
+  return true;
+}
+
+int SHGlyphSet::allIntersections(unsigned primitive, const Ray& ray, double* t) const
+{
+  return exactIntersections(Glyphs[primitive], ray, t, false);
+}
+
+double SHGlyphSet::insideLength(unsigned primitive, const Ray& ray, float& entry) const
+{
+  const Glyph& glyph = Glyphs[primitive];
+  double roots[kMaxGlyphHits + 2];
+  // Double arithmetic here: volume rendering integrates over all intersections.
+  const dvec3 o = dvec3(ray.origin) - glyph.center;
+  const dvec3 d = dvec3(ray.direction);
+  const double length = glm::length(d);
+  const dvec3 du = d / length;
+  const double tmin = double(ray.tnear) * length;
+  const double tmax = std::min(double(ray.tfar) * length, 1e300);
+  const double od[3] = { o.x, o.y, o.z }, dd[3] = { du.x, du.y, du.z };
+  const int count = intersectSHGlyph<double>(glyph.order, coefficients(primitive), od, dd, tmin,
+    tmax, defaultGlyphTolerance<double>(), roots + 1, false);
+  if (count == 0 && !insideSHGlyph(glyph.order, coefficients(primitive), o + tmin * du))
+    return 0.0;
+  // Segments between consecutive intersections; the midpoint tells inside from outside, so
+  // touching (double) roots cannot flip the parity.
+  roots[0] = tmin;
+  double end = tmax;
+  if (!std::isfinite(end))
+    end = roots[count] + 1.0; // after the last intersection the ray is outside
+  roots[count + 1] = end;
+  double inside = 0.0;
+  for (int i = 0; i <= count; ++i)
+  {
+    const double a = roots[i], b = roots[i + 1];
+    if (b <= a)
+      continue;
+    if (insideSHGlyph(glyph.order, coefficients(primitive), o + (0.5 * (a + b)) * du))
+    {
+      inside += b - a;
+      entry = std::min(entry, float(a / length));
+    }
+  }
+  return inside / length;
+}
+} // namespace sightline

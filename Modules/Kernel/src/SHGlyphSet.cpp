@@ -83,8 +83,7 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
     glyph.center = dvec3(centers[i]);
     glyph.order = std::uint8_t(options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order);
     glyph.offset = std::uint32_t(DoubleCoefficients.size());
-    glyph.useFloat = options.precision == SHPrecision::Float ||
-      (options.precision == SHPrecision::Automatic && glyph.order <= 8);
+    glyph.useFloat = options.precision == SHPrecision::Float;
     const int count = shCoefficientCount(glyph.order);
     DoubleCoefficients.insert(DoubleCoefficients.end(), canonical.begin(), canonical.begin() + count);
     Glyphs.push_back(glyph);

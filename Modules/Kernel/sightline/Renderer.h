@@ -35,7 +35,7 @@ struct ShadowOptions
 struct VolumeOptions
 {
   const EmbreeScene* scene = nullptr; ///< committed scene of volume geometries, or null
-  float extinction = 1.0f;            ///< per unit length of the scene
+  float extinction = 1.0f;            ///< per world unit (after RenderOptions::objectToWorld)
   vec3 emission{ 0.5f };
 };
 

@@ -82,7 +82,10 @@ public:
     const std::vector<std::uint32_t>& colors = {});
 
   std::size_t size() const override { return Glyphs.size(); }
-  bool hasPrimitiveColors() const override { return Options.coloring != SHColoring::Material; }
+  bool hasPrimitiveColors() const override
+  {
+    return Options.coloring != SHColoring::Material || Options.negativeLobeColor.x >= 0.0f;
+  }
   vec3 primitiveColor(unsigned primitive) const override;
   vec3 surfaceColor(unsigned primitive, const vec3& point) const override;
   std::size_t memoryBytes() const override;

@@ -55,8 +55,9 @@ struct Lighting
 /// `toViewer` is the unit vector from the point to the eye. A primitive's own colour replaces
 /// the material's ambient and diffuse colours, as VTK does for scalar colouring.
 /// `lightVisibility`, when given, holds one factor in [0, 1] per light (its unshadowed part).
-/// In the glTF model a light of intensity 1 gives a white Lambertian surface facing it the
-/// same brightness as VTK's Lambert term, so the two models can be swapped.
+/// In the glTF model a light of intensity 1 has irradiance pi, so a white surface facing it
+/// reflects (1 - F0) = 0.96 of VTK's Lambert value through the diffuse lobe, plus the specular
+/// lobe: the two models can be swapped without relighting the scene.
 vec3 shade(const Material& material, const vec3& ambientColor, const vec3& diffuseColor,
   const vec3& normal, const vec3& toViewer, const Lighting& lighting,
   const float* lightVisibility = nullptr);

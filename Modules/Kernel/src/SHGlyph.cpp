@@ -346,8 +346,8 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
         bestIndex[axis] = l;
       }
   }
-  if (order == 0)
-    return best;
+  if (order == 0) // a sphere: its extent is known exactly
+    return dvec3(std::abs(b[0]) * 0.5 / std::sqrt(double(kPi)));
   for (int axis = 0; axis < 3; ++axis)
     best[axis] = refineExtent(order, b, table.directions[bestIndex[axis]], axis, best[axis]);
   return best;

@@ -114,7 +114,7 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
 
 vec3 SHGlyphSet::primitiveColor(unsigned primitive) const
 {
-  return Colors.empty() ? Options.negativeLobeColor : unpackRGB(Colors[primitive]);
+  return Colors.empty() ? material.color : unpackRGB(Colors[primitive]);
 }
 
 vec3 SHGlyphSet::surfaceColor(unsigned primitive, const vec3& point) const
@@ -128,6 +128,8 @@ vec3 SHGlyphSet::surfaceColor(unsigned primitive, const vec3& point) const
     return Options.negativeLobeColor;
   if (Options.coloring == SHColoring::PerGlyph)
     return unpackRGB(Colors[primitive]);
+  if (Options.coloring == SHColoring::Material)
+    return material.color;
   return vec3(glm::abs(w));
 }
 

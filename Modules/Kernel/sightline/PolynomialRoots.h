@@ -142,6 +142,8 @@ int polynomialRoots(const T* c, T xmin, T xmax, T tolerance, T* roots, bool firs
   int maxIterations = kRootIterationLimit)
 {
   static_assert(N >= 1, "polynomialRoots needs degree >= 1");
+  if (!(xmin <= xmax)) // empty interval (or NaN bounds)
+    return 0;
   if constexpr (N <= 2)
   {
     T padded[3] = { c[0], c[1], N == 2 ? c[N] : T(0) };

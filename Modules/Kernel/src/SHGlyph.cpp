@@ -101,6 +101,7 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   bool firstOnly)
 {
   const RayTables<T>& tab = rayTables<T>(K);
+  const auto evaluate = [](const T* c, T x, T y, T z) { return evaluateSHSum<T>(K, c, x, y, z); };
   const T dO = d[0] * o[0] + d[1] * o[1] + d[2] * o[2];
   T e[3] = { o[0] - dO * d[0], o[1] - dO * d[1], o[2] - dO * d[2] };
   const T eo = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
@@ -129,7 +130,7 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   // g(u_l, v_l) = F(u_l d + v_l e) on the great circle, then g's coefficients.
   T samples[K + 1];
   for (int l = 0; l <= K; ++l)
-    samples[l] = evaluateSHSum<T>(K, b, tab.u[l] * d[0] + tab.v[l] * e[0],
+    samples[l] = evaluate(b, tab.u[l] * d[0] + tab.v[l] * e[0],
       tab.u[l] * d[1] + tab.v[l] * e[1], tab.u[l] * d[2] + tab.v[l] * e[2]);
   T g[K + 1];
   T gmax = T(0);
@@ -182,10 +183,42 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   if (!(lo <= hi))
     return 0;
   T roots[N];
-  const int count = polynomialRoots<N, T>(P, lo, hi, tolerance * std::max(wmax, eps), roots, firstOnly);
+  int count = polynomialRoots<N, T>(P, lo, hi, tolerance * std::max(wmax, eps), roots, firstOnly);
+  // The centre itself solves P = 0 when the ray passes through it (P = w^2k (g_k^2 - w^2) at
+  // eps = 0), and in float also when eps^k underflows. It is a surface point only where F
+  // vanishes, so a root within a few tolerances of the centre is kept only if F is that small
+  // there too. (Genuine roots near, but not at, the centre pass: we measured no misses.)
+  const T centreRadius = T(64) * tolerance * std::max(wmax, eps);
+  auto genuine = [&](T w)
+  {
+    const T r = std::sqrt(w * w + eps2);
+    if (r >= centreRadius)
+      return true;
+    const T x = r > T(0) ? (w * d[0] + eps * e[0]) / r : d[0];
+    const T y = r > T(0) ? (w * d[1] + eps * e[1]) / r : d[1];
+    const T z = r > T(0) ? (w * d[2] + eps * e[2]) / r : d[2];
+    return std::abs(evaluate(b, x, y, z)) * scale <= T(4) * centreRadius;
+  };
+  int kept = 0;
   for (int i = 0; i < count; ++i)
-    t[i] = roots[i] * gmax - dO;
-  return count;
+  {
+    const T ti = roots[i] * gmax - dO;
+    if (ti < tmin || ti > tmax || !genuine(roots[i]))
+      continue;
+    t[kept++] = ti;
+  }
+  if (firstOnly && kept == 0 && count > 0)
+  {
+    // The nearest root was the centre (or rounded out of range): look at all of them.
+    count = polynomialRoots<N, T>(P, lo, hi, tolerance * std::max(wmax, eps), roots, false);
+    for (int i = 0; i < count && kept == 0; ++i)
+    {
+      const T ti = roots[i] * gmax - dO;
+      if (ti >= tmin && ti <= tmax && genuine(roots[i]))
+        t[kept++] = ti;
+    }
+  }
+  return kept;
 }
 
 /// Spherical Fibonacci directions in the upper hemisphere with the basis evaluated at each.

@@ -4,7 +4,10 @@
 For each <scene>.csv, writes <scene>.png next to it (or to --output): the median frame time
 (log scale) of every method against its image error (mean RGB difference and coverage
 difference against the reference method), and a bar chart of the bytes each method holds per
-primitive. Needs matplotlib (Debian: python3-matplotlib); run with /usr/bin/python3.
+primitive. Methods named GROUP:NAME (a scene that renders several data sets, each with its own
+reference, e.g. sh-glyphs' k4:sightline) get one row of panels per GROUP, and a method keeps
+its colour across groups. Needs matplotlib (Debian: python3-matplotlib); run with
+/usr/bin/python3.
 
     /usr/bin/python3 plot_benchmarks.py RESULTS/spheres.csv [MORE.csv ...] [--output FILE.png]
 """
@@ -35,9 +38,19 @@ def read_rows(path):
         return [row for row in csv.DictReader(stream)]
 
 
+def split_method(method):
+    """(group, name) of a method: "k4:sightline" -> ("k4", "sightline"); no group -> ""."""
+    group, separator, name = method.partition(":")
+    return (group, name) if separator else ("", method)
+
+
 def method_colors(methods):
-    palette = plt.get_cmap("tab10")
-    return {method: palette(i % 10) for i, method in enumerate(methods)}
+    """One colour per method name (without its group), so a method looks alike in every group."""
+    names = list(dict.fromkeys(split_method(method)[1] for method in methods))
+    palette = plt.get_cmap("tab10" if len(names) <= 10 else "tab20")
+    size = 10 if len(names) <= 10 else 20
+    by_name = {name: palette(i % size) for i, name in enumerate(names)}
+    return {method: by_name[split_method(method)[1]] for method in methods}
 
 
 def short_count(count):
@@ -63,7 +76,8 @@ def plot_time_against_error(axis, rows, colors, markers, error_column, error_lab
         near = (round(math.log10(time) * 12), round(math.asinh(error / 0.01) * 2))
         stacked = labels_near.get(near, 0)
         labels_near[near] = stacked + 1
-        axis.annotate(f"{row['method']} ({short_count(row['primitives'])})", (error, time),
+        axis.annotate(f"{split_method(row['method'])[1]} ({short_count(row['primitives'])})",
+                      (error, time),
                       textcoords="offset points", xytext=(6, 4 - 9 * stacked), fontsize=7)
     axis.set_yscale("log")
     # The reference has zero error by definition: a symmetric-log axis shows it next to the rest.
@@ -90,7 +104,8 @@ def plot_bytes(axis, rows, colors, counts):
                            hatch=None if c == 0 else "//")
             axis.bar_label(bar, fmt="%.0f", fontsize=6, padding=1)
     axis.set_xticks(range(len(methods)))
-    axis.set_xticklabels(methods, rotation=30, ha="right", fontsize=8)
+    axis.set_xticklabels([split_method(method)[1] for method in methods], rotation=30, ha="right",
+                         fontsize=8)
     axis.set_yscale("log")
     axis.set_ylabel("bytes per primitive (log)")
     axis.set_title("memory: " + ", ".join(f"{short_count(c)}" + ("" if i == 0 else " (hatched)")
@@ -110,14 +125,20 @@ def plot_csv(path, output):
     marker_cycle = ["o", "s", "^", "D", "v", "P"]
     markers = {count: marker_cycle[i % len(marker_cycle)] for i, count in enumerate(counts)}
 
-    figure, axes = plt.subplots(1, 3, figsize=(18, 6))
-    plot_time_against_error(axes[0], measured, colors, markers, "rgb_mean_abs_diff",
-                            "mean |RGB difference| to the reference (0-255)")
-    plot_time_against_error(axes[1], measured, colors, markers, "coverage_diff_percent",
-                            "pixels whose coverage differs from the reference [%]")
-    plot_bytes(axes[2], measured, colors, counts)
-    axes[0].set_title("frame time against colour error", fontsize=9)
-    axes[1].set_title("frame time against silhouette (coverage) error", fontsize=9)
+    groups = list(dict.fromkeys(split_method(row["method"])[0] for row in rows))
+    figure, axes = plt.subplots(len(groups), 3, figsize=(18, 6 * len(groups)), squeeze=False)
+    for g, group in enumerate(groups):
+        in_group = [row for row in measured if split_method(row["method"])[0] == group]
+        title = f"{group}: " if group else ""
+        plot_time_against_error(axes[g][0], in_group, colors, markers, "rgb_mean_abs_diff",
+                                "mean |RGB difference| to the reference (0-255)")
+        plot_time_against_error(axes[g][1], in_group, colors, markers, "coverage_diff_percent",
+                                "pixels whose coverage differs from the reference [%]")
+        plot_bytes(axes[g][2], in_group, colors, counts)
+        axes[g][0].set_title(title + "frame time against colour error", fontsize=9)
+        axes[g][1].set_title(title + "frame time against silhouette (coverage) error", fontsize=9)
+        if title:
+            axes[g][2].set_title(title + axes[g][2].get_title(), fontsize=9)
 
     first = rows[0]
     skipped = [f"{row['method']} ({short_count(row['primitives'])})"
@@ -130,7 +151,8 @@ def plot_csv(path, output):
         f" OpenGL: {first['gl_renderer']}"
         + (f"\nskipped: {', '.join(skipped)}" if skipped else ""),
         fontsize=9)
-    figure.tight_layout()
+    # Keep the suptitle (up to three lines) clear of the top row of panels.
+    figure.tight_layout(rect=(0, 0, 1, 1 - 0.7 / figure.get_figheight()))
     figure.savefig(output, dpi=110)
     plt.close(figure)
     print(f"plot: {output}")

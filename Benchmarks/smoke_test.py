@@ -1,10 +1,19 @@
 #!/usr/bin/python3
-"""Smoke test of sightline-benchmark (ctest: sightline-benchmark-smoke, labels benchmark;display).
+"""Smoke test of sightline-benchmark (ctest: sightline-benchmark-smoke, labels benchmark;display,
+and sightline-benchmark-smoke-sh-glyphs, label benchmark).
 
-Runs the harness on a tiny sphere scene and checks what it wrote, not the timings: every method
-has its row, the exact Sightline images (GL-free and in a window) match the Embree reference,
-every tessellation is less accurate than the exact method, the images exist, and
-plot_benchmarks.py makes its figure. Needs a display for the OpenGL methods (xvfb-run).
+--scene spheres (the default) runs the harness on a tiny sphere scene and checks what it wrote,
+not the timings: every method has its row, the exact Sightline images (GL-free and in a window)
+match the Embree reference, every tessellation is less accurate than the exact method, the images
+exist, and plot_benchmarks.py makes its figure. Needs a display for the OpenGL methods
+(xvfb-run).
+
+--scene sh-glyphs runs a 12x12 slice of SH glyphs at 160x90 (no display needed) and checks that
+every data set (k4, k8, dipy) has every method's row, the exact method matches its converged
+reference, ray marching is less accurate than the exact method, coarser icosphere tessellations
+are less accurate than finer ones, marching with near-exact boxes draws what marching with the
+bounding sphere's boxes draws, the images and the intersection-cost CSV exist, and the plot script
+makes its figure.
 """
 
 import argparse
@@ -44,13 +53,7 @@ def value(row, column):
     return number
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--harness", required=True)
-    parser.add_argument("--plot-script", required=True)
-    parser.add_argument("--output", required=True)
-    arguments = parser.parse_args()
-
+def check_spheres(arguments):
     if os.path.isdir(arguments.output):
         shutil.rmtree(arguments.output)
     command = [arguments.harness, "--scene", "spheres", "--spheres", str(COUNT),
@@ -134,6 +137,136 @@ def main():
     print(f"OK: {len(rows)} methods; exact error {by_method['sightline']['rgb_mean_abs_diff']} "
           f"(RGB), {exact_coverage}% coverage; plot {plot_path}")
     return 0
+
+
+SH_SIDE = 12
+SH_WIDTH, SH_HEIGHT = 160, 90
+SH_DATASETS = ["k4", "k8", "dipy"]
+SH_LEVELS = [1, 2]  # icosphere levels, given to the harness as vertex counts 42, 162
+SH_METHODS = (["reference", "sightline", "march-100-cyl", "march-100-aabb", "march-200-cyl",
+               "march-200-aabb"] + [f"tess-L{level}" for level in SH_LEVELS]
+              + ["boxes-only", "hard-shadows", "soft-shadows-16", "uncertainty",
+                 "uncertainty-soft-shadows"])
+# The default exact method against the converged reference (tolerance 1e-6 vs 1e-10, both in
+# double): the same pixels up to an 8-bit rounding here and there.
+MAX_SH_EXACT_RGB_DIFF = 0.05
+MAX_SH_EXACT_COVERAGE_DIFF = 0.05
+
+
+def check_sh_glyphs(arguments):
+    if os.path.isdir(arguments.output):
+        shutil.rmtree(arguments.output)
+    count = SH_SIDE * SH_SIDE
+    vertices = [10 * 4 ** level + 2 for level in SH_LEVELS]
+    command = [arguments.harness, "--scene", "sh-glyphs", "--count", str(count),
+               "--width", str(SH_WIDTH), "--height", str(SH_HEIGHT), "--runs", "1",
+               "--tessellation", ",".join(map(str, vertices)),
+               "--output", arguments.output, "--no-plot"]
+    print(" ".join(command), flush=True)
+    if subprocess.run(command, timeout=150).returncode != 0:
+        fail("the harness failed")
+
+    csv_path = os.path.join(arguments.output, "sh-glyphs.csv")
+    if not os.path.isfile(csv_path):
+        fail(f"no {csv_path}")
+    with open(csv_path, newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    expected = [f"{d}:{m}" for d in SH_DATASETS for m in SH_METHODS]
+    methods = [row["method"] for row in rows]
+    if sorted(methods) != sorted(expected):
+        fail(f"methods in the CSV are {methods}, expected {expected}")
+    by_method = {row["method"]: row for row in rows}
+
+    for row in rows:
+        name = row["method"]
+        if row["status"] != "ok":
+            fail(f"{name}: status {row['status']} ({row['notes']})")
+        size = (int(row["primitives"]), int(row["width"]), int(row["height"]))
+        if size != (count, SH_WIDTH, SH_HEIGHT):
+            fail(f"{name}: wrong primitives or image size in the CSV: {size}")
+        for column in ["frame_seconds_median", "bytes_per_primitive", "first_image_seconds"]:
+            if value(row, column) <= 0:
+                fail(f"{name}: {column} must be positive")
+        if value(row, "build_seconds") < 0:
+            fail(f"{name}: negative build time")
+        if not 1.0 < value(row, "hit_percent") < 95.0:
+            fail(f"{name}: {row['hit_percent']}% of the pixels hit; the camera framing is off")
+        suffixes = ["", "-crop"] + ([] if name.endswith(":reference") else ["-diff"])
+        for suffix in suffixes:
+            image = os.path.join(arguments.output, "images", f"sh-glyphs-{count}-{name}{suffix}.png")
+            if not os.path.isfile(image) or os.path.getsize(image) == 0:
+                fail(f"no image {image}")
+
+    def error(name, column="rgb_mean_abs_diff"):
+        return value(by_method[name], column)
+
+    for dataset in SH_DATASETS:
+        reference = f"{dataset}:reference"
+        for column in ["rgb_mean_abs_diff", "coverage_diff_percent"]:
+            if error(reference, column) != 0.0:
+                fail(f"{reference} differs from itself in {column}")
+        exact = f"{dataset}:sightline"
+        if error(exact) > MAX_SH_EXACT_RGB_DIFF or \
+                error(exact, "coverage_diff_percent") > MAX_SH_EXACT_COVERAGE_DIFF:
+            fail(f"{exact}: RGB error {error(exact)}, coverage error "
+                 f"{error(exact, 'coverage_diff_percent')}: the exact method does not match its "
+                 "converged reference")
+        exact_total = error(exact) + error(exact, "coverage_diff_percent")
+        for steps in (100, 200):
+            cylinder, tight = f"{dataset}:march-{steps}-cyl", f"{dataset}:march-{steps}-aabb"
+            # Same marching, other boxes: the near-exact boxes must not cut anything off.
+            if abs(error(cylinder) - error(tight)) > 0.01:
+                fail(f"{cylinder} and {tight} draw different images: the tight boxes lose hits")
+        marching = f"{dataset}:march-100-cyl"
+        if error(marching) + error(marching, "coverage_diff_percent") <= exact_total:
+            fail(f"{marching} is as accurate as the exact method; the comparison is broken")
+        coarse, fine = (f"{dataset}:tess-L{level}" for level in SH_LEVELS)
+        if not error(coarse) > error(fine) > error(exact):
+            fail(f"{dataset}: tessellation errors {error(coarse)} (L{SH_LEVELS[0]}), {error(fine)} "
+                 f"(L{SH_LEVELS[1]}) do not decrease towards the exact method's {error(exact)}")
+        for level, row in zip(SH_LEVELS, (by_method[coarse], by_method[fine])):
+            if int(row["triangles"]) != count * 20 * 4 ** level:
+                fail(f"{row['method']}: unexpected triangle count {row['triangles']}")
+        if value(by_method[f"{dataset}:boxes-only"], "hit_percent") <= \
+                value(by_method[reference], "hit_percent"):
+            fail(f"{dataset}: the glyphs' boxes cover no more pixels than the glyphs")
+
+    micro_path = os.path.join(arguments.output, "sh-glyphs-intersection.csv")
+    if not os.path.isfile(micro_path):
+        fail(f"no {micro_path}")
+    with open(micro_path, newline="") as stream:
+        micro = list(csv.DictReader(stream))
+    if sorted(row["order"] for row in micro) != ["4", "8"]:
+        fail(f"{micro_path}: expected rows for k = 4 and 8")
+    for row in micro:
+        for column in ["aabb_us_per_glyph_1thread", "exact_hit_ns", "exact_miss_ns",
+                       "march200_cylinder_hit_ns", "march200_cylinder_miss_ns"]:
+            if not float(row[column]) > 0:
+                fail(f"{micro_path}: {column} = {row[column]} for k = {row['order']}")
+
+    plot = subprocess.run([sys.executable, arguments.plot_script, csv_path], timeout=60)
+    plot_path = os.path.join(arguments.output, "sh-glyphs.png")
+    if plot.returncode != 0 or not os.path.isfile(plot_path) or os.path.getsize(plot_path) < 10000:
+        fail("plot_benchmarks.py did not write the plot")
+
+    print(f"OK: {len(rows)} rows; exact RGB errors "
+          + ", ".join(f"{d} {error(d + ':sightline')}" for d in SH_DATASETS)
+          + "; marching-100 " + ", ".join(f"{d} {error(d + ':march-100-cyl')}" for d in SH_DATASETS)
+          + f"; plot {plot_path}")
+    return 0
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--harness", required=True)
+    parser.add_argument("--plot-script", required=True)
+    parser.add_argument("--output", required=True)
+    parser.add_argument("--scene", choices=["spheres", "sh-glyphs"], default="spheres")
+    arguments = parser.parse_args()
+    if arguments.scene == "sh-glyphs":
+        return check_sh_glyphs(arguments)
+    return check_spheres(arguments)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,12 @@
 // Three data sets per run: synthetic fODF-like glyphs truncated at k = 4 and at k = 8, and
 // DIPY's func_coef.nii.gz (MRtrix 0.2 basis, lmax 8) tiled over the slice. Each data set has
 // a reference of its own, so this scene computes the image errors itself (the harness compares
-// with one reference per run); methods are named "<data set>:<method>".
+// with one reference per run and leaves errors alone when no row is marked as reference);
+// methods are named "<data set>:<method>", with no row marked isReference, so the harness's
+// "x sightline" column stays empty and the ratio to "<data set>:sightline" is in the notes and
+// in the table printed here. All methods of a data set are built first, then their --runs
+// frames are timed round robin, so that other processes on shared cores slow them alike.
+// --tessellation gives icosphere vertex counts (42,162,642,2562 = levels 1-4 by default).
 //
 // Also measured, single-threaded: AABB time per glyph and the cost of one ray-glyph test
 // (hit and miss) for k = 4 and 8, exact and marching; printed and written to

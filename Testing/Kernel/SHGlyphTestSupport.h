@@ -1,5 +1,6 @@
 // Independent references for the SH glyph tests (TestSHGlyphIntersection.cpp,
-// TestSHGlyphBounds.cpp): random coefficient families and a ray-glyph reference that never
+// TestSHGlyphBounds.cpp, and glyph builders shared with TestSHGlyphSet.cpp and
+// TestSHGlyphRendering.cpp): random coefficient families and a ray-glyph reference that never
 // touches the kernel's polynomial path. The glyph function F itself is evaluated with the
 // kernel's evaluateSHSum<double>, whose basis TestSphericalHarmonics.cpp verifies against
 // MRtrix3 and DIPY; everything else (geometry, root bracketing, refinement, bounds) is written
@@ -27,6 +28,26 @@ constexpr long double kPi = 3.141592653589793238462643383279502884L;
 inline long double y00()
 {
   return 0.5L / std::sqrt(kPi);
+}
+
+/// Canonical coefficients of a fibre-like ODF: `isotropic` (as a radius) plus, per fibre, a
+/// delta along it smoothed by the heat kernel exp(-l(l+1)/sharpness). Not normalised.
+inline std::vector<double> fibreLobeCoefficients(int order, const std::vector<sightline::dvec3>& fibres,
+  double isotropic, double sharpness)
+{
+  const int count = sightline::shCoefficientCount(order);
+  std::vector<double> b(count, 0.0), y(count);
+  for (const sightline::dvec3& fibre : fibres)
+  {
+    const sightline::dvec3 u = glm::normalize(fibre);
+    sightline::evaluateSH<double>(order, u.x, u.y, u.z, y.data());
+    for (int l = 0; l <= order; l += 2)
+      for (int m = -l; m <= l; ++m)
+        b[sightline::shIndex(l, m)] +=
+          std::exp(-l * (l + 1.0) / sharpness) * y[sightline::shIndex(l, m)];
+  }
+  b[0] += isotropic / double(y00());
+  return b;
 }
 
 using Vec3L = std::array<long double, 3>;

@@ -9,6 +9,8 @@
 #include "sightline/SHGlyphSet.h"
 #include "sightline/SphereSet.h"
 
+#include "SHGlyphTestSupport.h"
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -106,18 +108,8 @@ std::vector<float> fibreGlyph(int order, const std::vector<dvec3>& fibres, doubl
                               double sharpness, double radius, double noise = 0.0,
                               unsigned seed = 1)
 {
-  const int count = sightline::shCoefficientCount(order);
-  std::vector<double> b(count, 0.0), y(count);
-  for (const dvec3& fibre : fibres)
-  {
-    const dvec3 u = glm::normalize(fibre);
-    sightline::evaluateSH<double>(order, u.x, u.y, u.z, y.data());
-    for (int l = 0; l <= order; l += 2)
-      for (int m = -l; m <= l; ++m)
-        b[sightline::shIndex(l, m)] +=
-          std::exp(-l * (l + 1.0) / sharpness) * y[sightline::shIndex(l, m)];
-  }
-  b[0] += isotropic / kY00;
+  std::vector<double> b =
+    sightline_test::glyph::fibreLobeCoefficients(order, fibres, isotropic, sharpness);
   std::mt19937 random(seed);
   std::normal_distribution<double> normal;
   for (double& c : b)

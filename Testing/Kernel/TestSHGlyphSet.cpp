@@ -11,6 +11,8 @@
 #include "sightline/SHGlyphSet.h"
 #include "sightline/SphereSet.h"
 
+#include "SHGlyphTestSupport.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,17 +93,8 @@ void normalizeRadius(int order, std::vector<double>& b, double radius)
 std::vector<double> fibreGlyph(int order, const std::vector<dvec3>& fibres, double isotropic,
                                double sharpness, double radius = 1.0)
 {
-  const int count = sightline::shCoefficientCount(order);
-  std::vector<double> b(count, 0.0), y(count);
-  for (const dvec3& fibre : fibres)
-  {
-    const dvec3 u = glm::normalize(fibre);
-    sightline::evaluateSH<double>(order, u.x, u.y, u.z, y.data());
-    for (int l = 0; l <= order; l += 2)
-      for (int m = -l; m <= l; ++m)
-        b[sightline::shIndex(l, m)] += std::exp(-l * (l + 1.0) / sharpness) * y[sightline::shIndex(l, m)];
-  }
-  b[0] += isotropic / kY00;
+  std::vector<double> b =
+    sightline_test::glyph::fibreLobeCoefficients(order, fibres, isotropic, sharpness);
   normalizeRadius(order, b, radius);
   return b;
 }
@@ -125,6 +118,7 @@ std::vector<float> toFloat(const std::vector<double>& values)
   return std::vector<float>(values.begin(), values.end());
 }
 
+/// Back to double, e.g. to get float-representable coefficients that convert exactly.
 std::vector<double> toDouble(const std::vector<float>& values)
 {
   return std::vector<double>(values.begin(), values.end());

@@ -1380,3 +1380,107 @@ TEST(SHGlyphSetInsideLength, GeneralGlyphMatchesADenseScan)
   EXPECT_GT(multiple, 15) << "rays crossing more than one inside interval";
 }
 } // namespace
+
+// Cached boxes: a set built with the half-extents another set computed has the same boxes, a
+// NaN entry is computed afresh, and boxes scale linearly with the glyph (what lets a viewer
+// cache one box per voxel and reuse it for every scale and normalisation).
+TEST(SHGlyphSetBounds, CachedHalfExtentsAreReusedAndNaNEntriesComputed)
+{
+  std::mt19937 random(4242);
+  const int order = 8;
+  std::vector<vec3> centers;
+  std::vector<float> coefficients;
+  for (int g = 0; g < 5; ++g)
+  {
+    centers.emplace_back(float(3 * g), 0.0f, 0.0f);
+    const std::vector<double> b = randomGlyph(order, random, 1.0, 0.6);
+    coefficients.insert(coefficients.end(), b.begin(), b.end());
+  }
+  const SHGlyphSet reference(centers, coefficients, order, canonicalOptions());
+  ASSERT_EQ(reference.size(), 5u);
+
+  std::vector<vec3> cached(5);
+  for (unsigned p = 0; p < 5; ++p)
+    cached[p] = reference.halfExtents(p);
+  cached[2] = vec3(kNaN);
+  const SHGlyphSet reused(centers, coefficients, order, canonicalOptions(), {}, {}, cached);
+  for (unsigned p = 0; p < 5; ++p)
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      EXPECT_EQ(reused.bounds(p).lower[axis], reference.bounds(p).lower[axis]) << "glyph " << p;
+      EXPECT_EQ(reused.bounds(p).upper[axis], reference.bounds(p).upper[axis]) << "glyph " << p;
+    }
+
+  // A cached box is taken as given: proof that it is not recomputed.
+  std::vector<vec3> fake(5, vec3(7.0f));
+  const SHGlyphSet trusted(centers, coefficients, order, canonicalOptions(), {}, {}, fake);
+  EXPECT_FLOAT_EQ(trusted.halfExtents(3).y, 7.0f);
+
+  const std::vector<float> scales(5, -2.5f);
+  const SHGlyphSet scaled(centers, coefficients, order, canonicalOptions(), scales);
+  for (unsigned p = 0; p < 5; ++p)
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_NEAR(scaled.halfExtents(p)[axis], 2.5f * reference.halfExtents(p)[axis],
+        1e-5f * scaled.halfExtents(p)[axis]) << "glyph " << p << " axis " << axis;
+
+  EXPECT_THROW(SHGlyphSet(centers, coefficients, order, canonicalOptions(), {}, {},
+                 std::vector<vec3>(4, vec3(1.0f))),
+    std::invalid_argument);
+}
+
+// Max amplitude: a zonal glyph peaks on the pole with the analytic value sum_l c_l0 Y_l0(pole);
+// random glyphs are never below a 200k-direction scan and every value is attained (the search
+// only evaluates F). The coefficient norm is the same in every convention.
+TEST(SHGlyphSetNormalisation, MaxAmplitudeAndCoefficientNorm)
+{
+  const int order = 8;
+  std::vector<float> zonal(sightline::shCoefficientCount(order), 0.0f);
+  double pole = 0.0;
+  for (int l = 0; l <= order; l += 2)
+  {
+    zonal[sightline::shIndex(l, 0)] = float(1.0 / (1 + l));
+    pole += double(zonal[sightline::shIndex(l, 0)]) * std::sqrt((2 * l + 1) / (4 * kPi));
+  }
+  EXPECT_NEAR(sightline::shMaxAmplitude(order, zonal.data(), canonicalConvention()), pole, 1e-6 * pole);
+
+  std::mt19937 random(99);
+  const std::vector<dvec3> dense = fibonacciSphere(200000);
+  for (int k = 2; k <= 12; k += 2)
+  {
+    const std::vector<double> b = randomGlyph(k, random, k % 4 == 0 ? 0.0 : 2.0, 0.5);
+    const std::vector<float> c(b.begin(), b.end());
+    double scan = 0.0;
+    for (const dvec3& w : dense)
+      scan = std::max(scan, std::abs(glyphFunction(k, b.data(), w)));
+    const double found = sightline::shMaxAmplitude(k, c.data(), canonicalConvention());
+    EXPECT_GE(found, scan * (1.0 - 1e-6)) << "order " << k;
+    EXPECT_LE(found, scan * (1.0 + 1e-3)) << "order " << k; // the scan's grid is that fine
+
+    double sum = 0.0;
+    for (float v : c)
+      sum += double(v) * double(v);
+    EXPECT_NEAR(sightline::shCoefficientNorm(k, c.data(), canonicalConvention()), std::sqrt(sum), 1e-12);
+  }
+
+  // The same function in DIPY's legacy basis has the same amplitude and norm.
+  const std::vector<double> b = randomGlyph(order, random, 1.0, 0.5);
+  const std::vector<float> canonical(b.begin(), b.end());
+  const SHConvention dipy = SHConvention::fromName("descoteaux07", true);
+  std::vector<float> legacy(canonical.size());
+  const auto toCanonical = sightline::SHConversion::toCanonical(dipy, order);
+  // Invert the signed permutation by converting unit vectors.
+  for (std::size_t j = 0; j < canonical.size(); ++j)
+  {
+    std::vector<float> unit(canonical.size(), 0.0f), image(canonical.size());
+    unit[j] = 1.0f;
+    toCanonical.apply(unit.data(), image.data());
+    for (std::size_t i = 0; i < canonical.size(); ++i)
+      if (image[i] != 0.0f)
+        legacy[j] = canonical[i] / image[i];
+  }
+  EXPECT_NEAR(sightline::shMaxAmplitude(order, legacy.data(), dipy),
+    sightline::shMaxAmplitude(order, canonical.data(), canonicalConvention()), 1e-9);
+  EXPECT_NEAR(sightline::shCoefficientNorm(order, legacy.data(), dipy),
+    sightline::shCoefficientNorm(order, canonical.data(), canonicalConvention()), 1e-9);
+  EXPECT_THROW(sightline::shMaxAmplitude(7, canonical.data(), canonicalConvention()), std::invalid_argument);
+}

@@ -10,11 +10,18 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace sightline
 {
+/// Packs an 8-bit RGBA colour the way geometries store per-primitive colours (R in the low byte).
+inline std::uint32_t packRGBA8(std::uint8_t r, std::uint8_t g, std::uint8_t b, std::uint8_t a = 255)
+{
+  return std::uint32_t(r) | (std::uint32_t(g) << 8) | (std::uint32_t(b) << 16) | (std::uint32_t(a) << 24);
+}
+
 /// What a primitive reports at the nearest hit, in the geometry's own coordinates.
 struct SurfaceHit
 {

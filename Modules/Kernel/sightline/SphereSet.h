@@ -51,10 +51,4 @@ private:
   std::vector<std::uint32_t> SourceIndex;
   ValidationReport Report;
 };
-
-/// Packs an 8-bit RGBA colour the way SphereSet stores it.
-inline std::uint32_t packRGBA8(std::uint8_t r, std::uint8_t g, std::uint8_t b, std::uint8_t a = 255)
-{
-  return std::uint32_t(r) | (std::uint32_t(g) << 8) | (std::uint32_t(b) << 16) | (std::uint32_t(a) << 24);
-}
 } // namespace sightline

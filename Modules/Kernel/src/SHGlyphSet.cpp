@@ -1,8 +1,11 @@
 #include "sightline/SHGlyphSet.h"
 
+#include <glm/gtc/constants.hpp>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <mutex>
 #include <chrono>
 #include <limits>
 #include <cmath>
@@ -29,7 +32,7 @@ void addReason(ValidationReport& report, std::size_t& counter, std::size_t index
 
 SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float>& coefficients,
   int order, const SHGlyphOptions& options, const std::vector<float>& scales,
-  const std::vector<std::uint32_t>& colors)
+  const std::vector<std::uint32_t>& colors, const std::vector<vec3>& halfExtents)
   : Options(options)
 {
   if (order < 0 || order > kMaxGlyphOrder || order % 2 != 0)
@@ -47,6 +50,9 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
   if (!colors.empty() && colors.size() != n)
     throw std::invalid_argument("SH glyph colour array has " + std::to_string(colors.size()) +
       " values for " + std::to_string(n) + " glyphs");
+  if (!halfExtents.empty() && halfExtents.size() != n)
+    throw std::invalid_argument("SH glyph box array has " + std::to_string(halfExtents.size()) +
+      " half-extents for " + std::to_string(n) + " glyphs");
   if (options.method == SHIntersectionMethod::RayMarching &&
     (options.marchingSteps < 1 || options.bisectionSteps < 0))
     throw std::invalid_argument("ray marching needs at least one step");
@@ -84,6 +90,11 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
     glyph.order = std::uint8_t(options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order);
     glyph.offset = std::uint32_t(DoubleCoefficients.size());
     glyph.useFloat = options.precision == SHPrecision::Float;
+    // A cached box is only trusted when it is a box: NaN marks "not computed yet".
+    if (!halfExtents.empty() && isFinite(halfExtents[i]) && halfExtents[i].x >= 0.0f)
+      glyph.halfExtents = halfExtents[i];
+    else
+      glyph.halfExtents = vec3(-1.0f);
     const int count = shCoefficientCount(glyph.order);
     DoubleCoefficients.insert(DoubleCoefficients.end(), canonical.begin(), canonical.begin() + count);
     Glyphs.push_back(glyph);
@@ -103,13 +114,118 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
       Glyph& glyph = Glyphs[i];
       const double* b = DoubleCoefficients.data() + glyph.offset;
       glyph.boundingRadius = float(shGlyphBoundingRadius(glyph.order, b));
-      const dvec3 half = tight ? shGlyphHalfExtents(glyph.order, b) : dvec3(glyph.boundingRadius);
-      glyph.box.lower = vec3(glyph.center - half);
-      glyph.box.upper = vec3(glyph.center + half);
+      if (!tight)
+        glyph.halfExtents = vec3(glyph.boundingRadius);
+      else if (glyph.halfExtents.x < 0.0f)
+        glyph.halfExtents = vec3(shGlyphHalfExtents(glyph.order, b));
+      glyph.box.lower = vec3(glyph.center - dvec3(glyph.halfExtents));
+      glyph.box.upper = vec3(glyph.center + dvec3(glyph.halfExtents));
     });
   BoundsSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const Glyph& glyph : Glyphs)
     AllBounds.extend(glyph.box);
+}
+
+namespace
+{
+/// Fibonacci directions dense enough for every lobe of an order (angular width ~ pi / order,
+/// sampled about 4 times across) and the canonical basis evaluated at them, built once.
+struct AmplitudeSamples
+{
+  std::vector<dvec3> directions;
+  std::vector<double> basis; ///< shCoefficientCount(order) values per direction
+};
+
+const AmplitudeSamples& amplitudeSamples(int order)
+{
+  static std::array<AmplitudeSamples, kMaxSHOrder / 2 + 1> table;
+  static std::array<std::once_flag, kMaxSHOrder / 2 + 1> built;
+  std::call_once(built[order / 2], [order]
+    {
+      AmplitudeSamples& s = table[order / 2];
+      const int count = std::max(64, 6 * (order + 1) * (order + 1));
+      const int stride = shCoefficientCount(order);
+      const double golden = glm::pi<double>() * (3.0 - std::sqrt(5.0));
+      s.directions.resize(count);
+      s.basis.resize(std::size_t(count) * stride);
+      for (int i = 0; i < count; ++i)
+      {
+        const double z = 1.0 - (2.0 * i + 1.0) / count;
+        const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        s.directions[i] = dvec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
+        evaluateSH<double>(order, s.directions[i].x, s.directions[i].y, s.directions[i].z,
+          s.basis.data() + std::size_t(i) * stride);
+      }
+    });
+  return table[order / 2];
+}
+} // namespace
+
+double shMaxAmplitude(int order, const float* coefficients, const SHConvention& convention)
+{
+  if (order < 0 || order > kMaxSHOrder || order % 2 != 0)
+    throw std::invalid_argument("SH order " + std::to_string(order) + " is not an even number in [0, " +
+      std::to_string(kMaxSHOrder) + "]");
+  const int stride = shCoefficientCount(order);
+  std::vector<double> c(stride);
+  SHConversion::toCanonical(convention, order).apply(coefficients, c.data());
+  auto amplitude = [&](const dvec3& w)
+  { return std::abs(evaluateSHSum<double>(order, c.data(), w.x, w.y, w.z)); };
+
+  // The best sample, then a compass search on the sphere that halves its step until the
+  // step is far below any lobe's width.
+  const AmplitudeSamples& samples = amplitudeSamples(order);
+  dvec3 best(0.0, 0.0, 1.0);
+  double bestValue = -1.0;
+  for (std::size_t i = 0; i < samples.directions.size(); ++i)
+  {
+    const double* y = samples.basis.data() + i * stride;
+    double value = 0.0;
+    for (int j = 0; j < stride; ++j)
+      value += c[j] * y[j];
+    if (std::abs(value) > bestValue)
+    {
+      bestValue = std::abs(value);
+      best = samples.directions[i];
+    }
+  }
+  if (order == 0 || !(bestValue > 0.0))
+    return std::max(bestValue, 0.0);
+  const dvec3 helper = std::abs(best.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+  dvec3 u = glm::normalize(glm::cross(best, helper));
+  double step = 2.0 * std::sqrt(4.0 * glm::pi<double>() / double(samples.directions.size()));
+  while (step > 1e-4) // amplitude error ~ curvature * step^2
+  {
+    const dvec3 v = glm::cross(best, u);
+    bool moved = false;
+    for (const dvec3& t : { u, -u, v, -v })
+    {
+      const dvec3 w = glm::normalize(best + step * t);
+      const double value = amplitude(w);
+      if (value > bestValue)
+      {
+        bestValue = value;
+        best = w;
+        moved = true;
+        break;
+      }
+    }
+    if (!moved)
+      step *= 0.5;
+    u = glm::normalize(u - glm::dot(u, best) * best);
+  }
+  return bestValue;
+}
+
+double shCoefficientNorm(int order, const float* coefficients, const SHConvention& convention)
+{
+  const int count = shCoefficientCount(order);
+  std::vector<double> c(count);
+  SHConversion::toCanonical(convention, order).apply(coefficients, c.data());
+  double sum = 0.0;
+  for (double v : c)
+    sum += v * v;
+  return std::sqrt(sum);
 }
 
 vec3 SHGlyphSet::primitiveColor(unsigned primitive) const

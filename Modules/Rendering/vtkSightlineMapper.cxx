@@ -20,6 +20,7 @@
 #include "vtkScalarsToColors.h"
 #include "vtkShaderProgram.h"
 #include "vtkTextureObject.h"
+#include "vtkTimerLog.h"
 #include "vtk_glew.h"
 
 #include "sightline/EmbreeScene.h"
@@ -70,6 +71,11 @@ sightline::Material MaterialFromProperty(vtkProperty* p)
   m.diffuse = static_cast<float>(p->GetDiffuse());
   m.specular = static_cast<float>(p->GetSpecular());
   m.specularPower = static_cast<float>(p->GetSpecularPower());
+  if (p->GetInterpolation() == VTK_PBR)
+  {
+    m.model = sightline::ShadingModel::GltfDielectric;
+    m.roughness = static_cast<float>(p->GetRoughness());
+  }
   m.opacity = 1.0f; // opaque only, see the class documentation
   return m;
 }
@@ -132,7 +138,11 @@ bool vtkSightlineMapper::UpdateScene()
     vtkMath::UninitializeBounds(in.Bounds);
     try
     {
+      vtkNew<vtkTimerLog> timer;
+      timer->StartTimer();
       in.Geometry = this->BuildGeometry();
+      timer->StopTimer();
+      this->LastGeometrySeconds = timer->GetElapsedTime();
       if (in.Geometry && in.Geometry->size() > 0)
       {
         auto scene = std::make_unique<sightline::EmbreeScene>();
@@ -298,6 +308,13 @@ bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCo
     vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1));
   sightline::RenderOptions options;
   options.objectToWorld = vtkSightlineMapper::ToKernelMatrix(actor->GetMatrix());
+  options.shadows.mode = this->ShadowMode == SHADOWS_SOFT ? sightline::ShadowMode::Soft
+    : this->ShadowMode == SHADOWS_HARD                    ? sightline::ShadowMode::Hard
+                                                          : sightline::ShadowMode::None;
+  options.shadows.samples = this->ShadowSamples;
+  options.shadows.lightAngularRadius =
+    static_cast<float>(vtkMath::RadiansFromDegrees(this->LightAngularRadius));
+  this->ConfigureRender(options);
   options.progress = [this](double fraction)
   {
     this->UpdateProgress(fraction);
@@ -452,13 +469,31 @@ void vtkSightlineMapper::ReleaseGraphicsResources(vtkWindow* window)
 }
 
 //------------------------------------------------------------------------------
+const char* vtkSightlineMapper::GetShadowModeAsString()
+{
+  switch (this->ShadowMode)
+  {
+    case SHADOWS_HARD:
+      return "Hard";
+    case SHADOWS_SOFT:
+      return "Soft";
+    default:
+      return "Off";
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkSightlineMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "ShadowMode: " << this->GetShadowModeAsString() << "\n";
+  os << indent << "ShadowSamples: " << this->ShadowSamples << "\n";
+  os << indent << "LightAngularRadius: " << this->LightAngularRadius << " degrees\n";
   os << indent << "InteractiveSubsampling: " << this->InteractiveSubsampling << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "NumberOfPrimitives: "
      << (this->Internals->Geometry ? this->Internals->Geometry->size() : 0) << "\n";
+  os << indent << "LastGeometrySeconds: " << this->LastGeometrySeconds << "\n";
   os << indent << "LastBuildSeconds: " << this->LastBuildSeconds << "\n";
   os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";
 }

@@ -23,6 +23,12 @@
  *
  * Progress: ProgressEvent is invoked (on the calling thread) while a frame is traced.
  *
+ * Shading follows the actor's vtkProperty: Phong with its ambient/diffuse/specular terms, or,
+ * with SetInterpolationToPBR(), a glTF dielectric BRDF with the property's roughness. Shadows
+ * (ShadowMode) are off by default: then no shadow ray is traced at all; hard shadows trace one
+ * ray per light, soft shadows ShadowSamples rays into a spherical light of
+ * LightAngularRadius degrees.
+ *
  * Limitations: vtkProperty opacity below 1 is not supported yet (rendered opaque, with a
  * warning); positional and spot lights are treated as directional lights along their axis.
  *
@@ -42,6 +48,7 @@ namespace sightline
 class Framebuffer;
 class Geometry;
 struct Lighting;
+struct RenderOptions;
 }
 #endif
 
@@ -88,6 +95,36 @@ public:
   vtkGetMacro(InteractiveSubsampling, int);
   ///@}
 
+  enum ShadowModes
+  {
+    SHADOWS_OFF = 0,
+    SHADOWS_HARD,
+    SHADOWS_SOFT
+  };
+
+  ///@{
+  /**
+   * Shadows cast by the primitives onto each other, from every light. Default SHADOWS_OFF.
+   */
+  vtkSetClampMacro(ShadowMode, int, SHADOWS_OFF, SHADOWS_SOFT);
+  vtkGetMacro(ShadowMode, int);
+  void SetShadowModeToOff() { this->SetShadowMode(SHADOWS_OFF); }
+  void SetShadowModeToHard() { this->SetShadowMode(SHADOWS_HARD); }
+  void SetShadowModeToSoft() { this->SetShadowMode(SHADOWS_SOFT); }
+  const char* GetShadowModeAsString();
+  ///@}
+
+  ///@{
+  /**
+   * Soft shadows: rays per pixel and light (default 16), and the angular radius of the
+   * spherical lights in degrees (default 8.6, about 0.15 rad; larger gives wider penumbrae).
+   */
+  vtkSetClampMacro(ShadowSamples, int, 1, 1024);
+  vtkGetMacro(ShadowSamples, int);
+  vtkSetClampMacro(LightAngularRadius, double, 0.0, 45.0);
+  vtkGetMacro(LightAngularRadius, double);
+  ///@}
+
   ///@{
   /**
    * Desired update rate (frames per second) above which a frame counts as interactive.
@@ -105,9 +142,11 @@ public:
   vtkIdType GetNumberOfPrimitives();
 
   /**
-   * Seconds the last ray-traced frame took, and the last BVH build.
+   * Seconds the last ray-traced frame took, the last geometry build from the input
+   * (BuildGeometry: e.g. glyph boxes) and the last BVH build over it.
    */
   vtkGetMacro(LastFrameSeconds, double);
+  vtkGetMacro(LastGeometrySeconds, double);
   vtkGetMacro(LastBuildSeconds, double);
 
 #ifndef __VTK_WRAP__
@@ -144,13 +183,24 @@ protected:
    * is valid). Called only when the input, the mapper or the lookup table changed.
    */
   virtual std::shared_ptr<sightline::Geometry> BuildGeometry() = 0;
+
+  /**
+   * Lets a subclass add what its primitives need to the render options of a frame (e.g. the
+   * volume geometries of uncertainty glyphs). Called after the geometry is current; shadows,
+   * transform and progress are already set.
+   */
+  virtual void ConfigureRender(sightline::RenderOptions& vtkNotUsed(options)) {}
 #endif
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   int InteractiveSubsampling = 2;
   double InteractiveUpdateRate = 1.0;
+  int ShadowMode = SHADOWS_OFF;
+  int ShadowSamples = 16;
+  double LightAngularRadius = 8.6;
   double LastFrameSeconds = 0.0;
+  double LastGeometrySeconds = 0.0;
   double LastBuildSeconds = 0.0;
 
 private:

@@ -28,6 +28,9 @@ struct RayTables
   /// factorials in Section 3.5's version of this formula would give a bound that is too small).
   T circleBound[kMaxGlyphOrder + 1];
   T binomial[kMaxGlyphOrder + 2]; ///< C(k+1, j)
+  /// max over the unit circle of |u^i v^(k+1-i)|: bounds g(u, v) v, whose maximum is the
+  /// largest distance of the glyph's cross-section from the ray's line through the centre.
+  T sineBound[kMaxGlyphOrder + 1];
 
   explicit RayTables(int k) : order(k)
   {
@@ -74,6 +77,12 @@ struct RayTables
       const long double b = k - i == 0 ? 1.0L : std::pow((long double)(k - i), k - i);
       circleBound[i] = k == 0 ? T(1) : T(std::sqrt(a * b / std::pow((long double)k, k)));
     }
+    for (int i = 0; i < n; ++i)
+    {
+      const long double a = i == 0 ? 1.0L : std::pow((long double)i, i);
+      const long double b = std::pow((long double)(n - i), n - i);
+      sineBound[i] = T(std::sqrt(a * b / std::pow((long double)n, n)) * (1.0L + 1e-6L));
+    }
     long double c = 1.0L;
     for (int j = 0; j <= k + 1; ++j)
     {
@@ -94,6 +103,122 @@ const RayTables<T>& rayTables(int order)
     return tables;
   }();
   return *all[order / 2];
+}
+
+/// Recurrence constants of the canonical basis, the same formulas (in double) as the
+/// LegendreTables of SphericalHarmonics.cpp, so the batch below reproduces evaluateSHSum.
+template <class T>
+struct BatchLegendre
+{
+  T start[kMaxGlyphOrder + 1];
+  T first[kMaxGlyphOrder + 1]; ///< sqrt(2m + 3): S_{m+1}^m = first[m] z S_m^m
+  T a[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
+  T b[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
+  BatchLegendre()
+  {
+    const double pi = 3.14159265358979323846;
+    for (int m = 0; m <= kMaxGlyphOrder; ++m)
+    {
+      double ratio = 1.0;
+      for (int i = 1; i <= m; ++i)
+        ratio *= double(2 * i - 1) / double(2 * i);
+      start[m] = T(std::sqrt((2 * m + 1) / (4.0 * pi) * ratio) * (m == 0 ? 1.0 : std::sqrt(2.0)));
+      first[m] = T(std::sqrt(double(2 * m + 3)));
+      for (int l = 0; l <= kMaxGlyphOrder; ++l)
+      {
+        a[l][m] = b[l][m] = T(0);
+        if (l > m)
+        {
+          const double lm = double(l - m) * double(l + m);
+          a[l][m] = T(std::sqrt(double(2 * l + 1) * double(2 * l - 1) / lm));
+          if (l > m + 1)
+            b[l][m] = T(std::sqrt(
+              double(2 * l + 1) * double(l + m - 1) * double(l - m - 1) / (double(2 * l - 3) * lm)));
+        }
+      }
+    }
+  }
+};
+
+template <class T>
+const BatchLegendre<T>& batchLegendre()
+{
+  static const BatchLegendre<T> instance;
+  return instance;
+}
+
+/// evaluateSHSum at the K + 1 directions (x[l], y[l], z[l]) at once: the recurrences are the
+/// same for every direction, so the loops over directions are innermost, of fixed length, and
+/// vectorise; constants and coefficients are loaded once per ray instead of once per direction.
+template <int K, class T>
+inline void evaluateSHSumBatch(const T* coefficients, const T* x, const T* y, const T* z, T* sum)
+{
+  constexpr int n = K + 1;
+  const BatchLegendre<T>& t = batchLegendre<T>();
+  T A[n], B[n], previous[n], current[n], weightA[n], weightB[n];
+  for (int d = 0; d < n; ++d)
+  {
+    A[d] = T(1);
+    B[d] = T(0);
+    sum[d] = T(0);
+  }
+  for (int m = 0; m <= K; ++m)
+  {
+    if (m > 0)
+      for (int d = 0; d < n; ++d)
+      {
+        const T nextA = x[d] * A[d] - y[d] * B[d];
+        B[d] = x[d] * B[d] + y[d] * A[d];
+        A[d] = nextA;
+      }
+    const T cA0 = coefficients[shIndex(m, m)];
+    const T cB0 = m == 0 ? T(0) : coefficients[shIndex(m, -m)];
+    const bool even = m % 2 == 0;
+    for (int d = 0; d < n; ++d)
+    {
+      previous[d] = t.start[m];
+      current[d] = t.start[m];
+      weightA[d] = even ? cA0 * current[d] : T(0);
+      weightB[d] = even ? cB0 * current[d] : T(0);
+    }
+    if (m + 1 <= K)
+    {
+      for (int d = 0; d < n; ++d)
+        current[d] = t.first[m] * z[d] * previous[d];
+      if (!even)
+      {
+        const T cA = coefficients[shIndex(m + 1, m)];
+        const T cB = coefficients[shIndex(m + 1, -m)];
+        for (int d = 0; d < n; ++d)
+        {
+          weightA[d] += cA * current[d];
+          weightB[d] += cB * current[d];
+        }
+      }
+    }
+    for (int l = m + 2; l <= K; ++l)
+    {
+      const T al = t.a[l][m], bl = t.b[l][m];
+      for (int d = 0; d < n; ++d)
+      {
+        const T next = al * z[d] * current[d] - bl * previous[d];
+        previous[d] = current[d];
+        current[d] = next;
+      }
+      if (l % 2 == 0)
+      {
+        const T cA = coefficients[shIndex(l, m)];
+        const T cB = m == 0 ? T(0) : coefficients[shIndex(l, -m)];
+        for (int d = 0; d < n; ++d)
+        {
+          weightA[d] += cA * current[d];
+          weightB[d] += cB * current[d];
+        }
+      }
+    }
+    for (int d = 0; d < n; ++d)
+      sum[d] += weightA[d] * A[d] + weightB[d] * B[d];
+  }
 }
 
 template <int K, class T>
@@ -129,11 +254,18 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
 
   // g(u_l, v_l) = F(u_l d + v_l e) on the great circle, then g's coefficients.
   T samples[K + 1];
-  for (int l = 0; l <= K; ++l)
-    samples[l] = evaluate(b, tab.u[l] * d[0] + tab.v[l] * e[0],
-      tab.u[l] * d[1] + tab.v[l] * e[1], tab.u[l] * d[2] + tab.v[l] * e[2]);
+  {
+    T x[K + 1], y[K + 1], z[K + 1];
+    for (int l = 0; l <= K; ++l)
+    {
+      x[l] = tab.u[l] * d[0] + tab.v[l] * e[0];
+      y[l] = tab.u[l] * d[1] + tab.v[l] * e[1];
+      z[l] = tab.u[l] * d[2] + tab.v[l] * e[2];
+    }
+    evaluateSHSumBatch<K, T>(b, x, y, z, samples);
+  }
   T g[K + 1];
-  T gmax = T(0);
+  T gmax = T(0), sineMax = T(0);
   for (int i = 0; i <= K; ++i)
   {
     T sum = T(0);
@@ -141,9 +273,12 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
       sum += tab.inverseVandermonde[i][l] * samples[l];
     g[i] = sum;
     gmax += std::abs(sum) * tab.circleBound[i];
+    sineMax += std::abs(sum) * tab.sineBound[i];
   }
-  // Early out: the ray's distance from the centre exceeds the glyph's bounding circle.
-  if (!(gmax > eo))
+  // Early outs: the ray's distance from the centre exceeds the glyph's bounding circle, or the
+  // bound on |g(u, v) v| (the cross-section's distance from the line through the centre
+  // parallel to the ray; sineBound carries a relative margin of 1e-6 against rounding).
+  if (!(gmax > eo) || !(sineMax > eo))
     return 0;
 
   // In units of gmax: w = (t + d.o) / gmax along the ray, eps = (e.o) / gmax <= 1, and
@@ -182,8 +317,18 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   const T hi = std::min(wmax, (tmax + dO) * scale);
   if (!(lo <= hi))
     return 0;
+  // Root isolation by Bernstein subdivision in double; float keeps the derivative cascade (its
+  // rounding level leaves too many Bernstein signs uncertain for subdivision to pay off).
+  const auto findRoots = [&](T* found, bool first)
+  {
+    const T rootTolerance = tolerance * std::max(wmax, eps);
+    if constexpr (sizeof(T) >= sizeof(double))
+      return polynomialRootsSubdivision<N, T>(P, lo, hi, rootTolerance, found, first);
+    else
+      return polynomialRoots<N, T>(P, lo, hi, rootTolerance, found, first);
+  };
   T roots[N];
-  int count = polynomialRoots<N, T>(P, lo, hi, tolerance * std::max(wmax, eps), roots, firstOnly);
+  int count = findRoots(roots, firstOnly);
   // The centre itself solves P = 0 when the ray passes through it (P = w^2k (g_k^2 - w^2) at
   // eps = 0), and in float also when eps^k underflows. It is a surface point only where F
   // vanishes, so a root within a few tolerances of the centre is kept only if F is that small
@@ -210,7 +355,7 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   if (firstOnly && kept == 0 && count > 0)
   {
     // The nearest root was the centre (or rounded out of range): look at all of them.
-    count = polynomialRoots<N, T>(P, lo, hi, tolerance * std::max(wmax, eps), roots, false);
+    count = findRoots(roots, false);
     for (int i = 0; i < count && kept == 0; ++i)
     {
       const T ti = roots[i] * gmax - dO;

@@ -1441,7 +1441,7 @@ TEST(SHGlyphSetNormalisation, MaxAmplitudeAndCoefficientNorm)
     zonal[sightline::shIndex(l, 0)] = float(1.0 / (1 + l));
     pole += double(zonal[sightline::shIndex(l, 0)]) * std::sqrt((2 * l + 1) / (4 * kPi));
   }
-  EXPECT_NEAR(sightline::shMaxAmplitude(order, zonal.data(), canonicalConvention()), pole, 1e-6 * pole);
+  EXPECT_NEAR(sightline::shMaxAmplitude(order, zonal.data(), canonicalConvention()), pole, 1e-5 * pole);
 
   std::mt19937 random(99);
   const std::vector<dvec3> dense = fibonacciSphere(200000);
@@ -1453,7 +1453,7 @@ TEST(SHGlyphSetNormalisation, MaxAmplitudeAndCoefficientNorm)
     for (const dvec3& w : dense)
       scan = std::max(scan, std::abs(glyphFunction(k, b.data(), w)));
     const double found = sightline::shMaxAmplitude(k, c.data(), canonicalConvention());
-    EXPECT_GE(found, scan * (1.0 - 1e-6)) << "order " << k;
+    EXPECT_GE(found, scan * (1.0 - 1e-5)) << "order " << k;
     EXPECT_LE(found, scan * (1.0 + 1e-3)) << "order " << k; // the scan's grid is that fine
 
     double sum = 0.0;

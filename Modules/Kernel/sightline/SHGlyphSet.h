@@ -70,7 +70,7 @@ struct SHGlyphOptions
 
 /// Largest |F(w)| over the unit sphere of an SH function given in `convention`: the radius of
 /// the glyph's longest lobe, which normalisations divide by. Dense Fibonacci sampling, then a
-/// local pattern search from the best sample; relative error below 1e-6 for smooth lobes.
+/// local pattern search from the best sample; relative error about 1e-6 (enough to normalise).
 double shMaxAmplitude(int order, const float* coefficients, const SHConvention& convention);
 
 /// Euclidean norm of the coefficients in the orthonormal canonical basis (the L2 norm of F

@@ -15,6 +15,7 @@
 #include "sightline/Renderer.h"
 #include "sightline/SHGlyph.h"
 #include "sightline/SHGlyphSet.h"
+#include "sightline/SHRotation.h"
 
 #include <tbb/parallel_for.h>
 
@@ -28,6 +29,7 @@
 
 vtkStandardNewMacro(vtkSightlineSHGlyphMapper);
 vtkCxxSetObjectMacro(vtkSightlineSHGlyphMapper, DataToWorldMatrix, vtkMatrix4x4);
+vtkCxxSetObjectMacro(vtkSightlineSHGlyphMapper, DirectionToWorldMatrix, vtkMatrix4x4);
 
 namespace
 {
@@ -38,19 +40,24 @@ constexpr float kNotComputed = std::numeric_limits<float>::quiet_NaN();
 class PointCache
 {
 public:
-  bool Matches(vtkDataArray* array, int order, const sightline::SHConvention& convention) const
+  /// Boxes also depend on how the glyphs are turned (`rotation`, identity when they are not).
+  bool Matches(vtkDataArray* array, int order, const sightline::SHConvention& convention,
+    const glm::dmat3& rotation) const
   {
     return array == this->Array && array->GetMTime() == this->ArrayTime && order == this->Order &&
       convention.basis == this->Convention.basis && convention.legacy == this->Convention.legacy &&
+      rotation == this->Rotation &&
       static_cast<std::size_t>(array->GetNumberOfTuples()) == this->HalfExtents.size();
   }
 
-  void Reset(vtkDataArray* array, int order, const sightline::SHConvention& convention)
+  void Reset(vtkDataArray* array, int order, const sightline::SHConvention& convention,
+    const glm::dmat3& rotation)
   {
     this->Array = array;
     this->ArrayTime = array->GetMTime();
     this->Order = order;
     this->Convention = convention;
+    this->Rotation = rotation;
     const std::size_t points = static_cast<std::size_t>(array->GetNumberOfTuples());
     this->HalfExtents.assign(points, sightline::vec3(kNotComputed));
     this->MaxAmplitude.assign(points, kNotComputed);
@@ -82,7 +89,27 @@ private:
   vtkMTimeType ArrayTime = 0;
   int Order = -1;
   sightline::SHConvention Convention;
+  glm::dmat3 Rotation{ 1.0 };
 };
+
+/// The rotation closest to a linear map (polar decomposition by Newton's iteration), so that
+/// voxel spacing or scaling in an sform does not distort the glyphs.
+glm::dmat3 ClosestRotation(glm::dmat3 m)
+{
+  for (int i = 0; i < 30; ++i)
+  {
+    const glm::dmat3 next = 0.5 * (m + glm::transpose(glm::inverse(m)));
+    const glm::dmat3 change = next - m;
+    m = next;
+    double largest = 0.0;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        largest = std::max(largest, std::abs(change[c][r]));
+    if (largest < 1e-15)
+      break;
+  }
+  return m;
+}
 
 std::string CountsOfOrders()
 {
@@ -121,6 +148,7 @@ vtkSightlineSHGlyphMapper::~vtkSightlineSHGlyphMapper()
   this->SetMaskArrayName(nullptr);
   this->SetUncertaintyArrayName(nullptr);
   this->SetDataToWorldMatrix(nullptr);
+  this->SetDirectionToWorldMatrix(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -134,9 +162,12 @@ int vtkSightlineSHGlyphMapper::FillInputPortInformation(int vtkNotUsed(port), vt
 vtkMTimeType vtkSightlineSHGlyphMapper::GetMTime()
 {
   vtkMTimeType time = this->Superclass::GetMTime();
-  if (this->DataToWorldMatrix)
+  for (vtkMatrix4x4* matrix : { this->DataToWorldMatrix, this->DirectionToWorldMatrix })
   {
-    time = std::max(time, this->DataToWorldMatrix->GetMTime());
+    if (matrix)
+    {
+      time = std::max(time, matrix->GetMTime());
+    }
   }
   return time;
 }
@@ -356,6 +387,27 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
       : sightline::SHBasis::Descoteaux07,
     this->LegacyBasis };
 
+  // Directions given in other axes than the world's are turned into world axes.
+  glm::dmat3 rotation(1.0);
+  if (this->DirectionToWorldMatrix)
+  {
+    glm::dmat3 linear;
+    for (int c = 0; c < 3; ++c)
+    {
+      for (int r = 0; r < 3; ++r)
+      {
+        linear[c][r] = this->DirectionToWorldMatrix->GetElement(r, c); // GLM is column-major
+      }
+    }
+    if (!(std::abs(glm::determinant(linear)) > 1e-12) || !std::isfinite(glm::determinant(linear)))
+    {
+      vtkErrorMacro(<< "DirectionToWorldMatrix is singular or not finite; no glyphs rendered.");
+      return nullptr;
+    }
+    rotation = ClosestRotation(linear);
+  }
+  const bool turned = rotation != glm::dmat3(1.0);
+
   // Which points: a slice or an extent of an image, every point of anything else.
   std::vector<vtkIdType> ids;
   auto* image = vtkImageData::SafeDownCast(input);
@@ -487,9 +539,9 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   }
 
   // Per-point caches of boxes and amplitudes, valid while the array and basis stay the same.
-  if (!in.Glyphs.Matches(coefficients, order, convention))
+  if (!in.Glyphs.Matches(coefficients, order, convention, rotation))
   {
-    in.Glyphs.Reset(coefficients, order, convention);
+    in.Glyphs.Reset(coefficients, order, convention, rotation);
   }
   const int normalization = this->Normalization;
   std::vector<vtkIdType> needAmplitude;
@@ -577,6 +629,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   for (std::size_t g = 0; g < ids.size(); ++g)
   {
     const float* c = values.data() + g * stride;
+    if (std::all_of(c, c + stride, [](float v) { return v == 0.0f; }))
+    {
+      continue; // background voxels of a fit are all zero: normal, not an error
+    }
     double divisor = 1.0;
     switch (normalization)
     {
@@ -590,12 +646,11 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
         divisor = in.Glyphs.GlobalMaxAmplitude;
         break;
       default:
-        divisor = std::all_of(c, c + stride, [](float v) { return v == 0.0f; }) ? 0.0 : 1.0;
         break;
     }
     if (!(divisor > 0.0) || !std::isfinite(divisor))
     {
-      continue; // an all-zero glyph: background voxels of a fit are normal, not an error
+      continue; // nothing to draw at this size (e.g. only bands above MaximumOrder)
     }
     drawn.push_back(ids[g]);
     drawnValues.insert(drawnValues.end(), c, c + stride);
@@ -606,6 +661,31 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
     vtkWarningMacro(<< "Every selected glyph is zero, masked or invalid: nothing to render.");
     return nullptr;
   }
+
+  // Turned glyphs: coefficients in the canonical basis, rotated (amplitudes and norms, cached
+  // above from the input's coefficients, do not change under rotation).
+  const sightline::SHConvention glyphConvention =
+    turned ? sightline::SHConvention{ sightline::SHBasis::Canonical, false } : convention;
+  auto turn = [&](int turnOrder, std::vector<float>& turnValues)
+  {
+    if (!turned)
+    {
+      return;
+    }
+    const int turnStride = sightline::shCoefficientCount(turnOrder);
+    const sightline::SHConversion conversion =
+      sightline::SHConversion::toCanonical(convention, turnOrder);
+    const sightline::SHRotation turning(turnOrder, rotation);
+    std::vector<double> canonical(turnStride), rotated(turnStride);
+    for (std::size_t g = 0; g < turnValues.size() / turnStride; ++g)
+    {
+      float* c = turnValues.data() + g * turnStride;
+      conversion.apply(c, canonical.data());
+      turning.apply(canonical.data(), rotated.data());
+      std::copy(rotated.begin(), rotated.end(), c);
+    }
+  };
+  turn(order, drawnValues);
 
   // Boxes: cached per point, computed for the points that have none yet (with progress).
   auto computeBoxes = [&](PointCache& cache, int boxOrder, const std::vector<float>& boxValues)
@@ -620,7 +700,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
       }
     }
     const sightline::SHConversion conversion =
-      sightline::SHConversion::toCanonical(convention, boxOrder);
+      sightline::SHConversion::toCanonical(glyphConvention, boxOrder);
     const std::size_t block = 2048;
     for (std::size_t start = 0; start < missing.size(); start += block)
     {
@@ -661,7 +741,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   }
 
   sightline::SHGlyphOptions options;
-  options.convention = convention;
+  options.convention = glyphConvention;
   options.coloring = this->Coloring == COLOR_SOLID ? sightline::SHColoring::Material
                                                    : sightline::SHColoring::Direction;
   options.hideNegativeLobes = this->NegativeLobes == NEGATIVE_LOBES_HIDE;
@@ -727,17 +807,18 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
       }
       else
       {
-        if (!in.Uncertainty.Matches(uncertainty, uncertaintyOrder, convention))
+        if (!in.Uncertainty.Matches(uncertainty, uncertaintyOrder, convention, rotation))
         {
-          in.Uncertainty.Reset(uncertainty, uncertaintyOrder, convention);
+          in.Uncertainty.Reset(uncertainty, uncertaintyOrder, convention, rotation);
         }
         std::vector<float> uncertaintyValues;
         gather(uncertainty, sightline::shCoefficientCount(uncertaintyOrder), drawn,
           uncertaintyValues);
+        turn(uncertaintyOrder, uncertaintyValues);
         const std::vector<sightline::vec3> uncertaintyBoxes =
           computeBoxes(in.Uncertainty, uncertaintyOrder, uncertaintyValues);
         sightline::SHGlyphOptions volumeOptions;
-        volumeOptions.convention = convention;
+        volumeOptions.convention = glyphConvention;
         volumeOptions.coloring = sightline::SHColoring::Material;
         in.UncertaintySet = std::make_shared<sightline::SHGlyphSet>(centers, uncertaintyValues,
           uncertaintyOrder, volumeOptions, scales, std::vector<std::uint32_t>{}, uncertaintyBoxes);
@@ -812,6 +893,8 @@ void vtkSightlineSHGlyphMapper::PrintSelf(ostream& os, vtkIndent indent)
      << " " << this->DisplayExtent[2] << " " << this->DisplayExtent[3] << " "
      << this->DisplayExtent[4] << " " << this->DisplayExtent[5] << "\n";
   os << indent << "DataToWorldMatrix: " << (this->DataToWorldMatrix ? "set" : "(identity)") << "\n";
+  os << indent << "DirectionToWorldMatrix: " << (this->DirectionToWorldMatrix ? "set" : "(world axes)")
+     << "\n";
   os << indent << "MaskArrayName: " << (this->MaskArrayName ? this->MaskArrayName : "(none)")
      << "\n";
   os << indent << "Coloring: " << this->GetColoringAsString() << "\n";

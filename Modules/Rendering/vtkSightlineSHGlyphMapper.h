@@ -17,11 +17,15 @@
  * MaximumOrder truncates higher bands, and trailing bands that are zero are dropped per glyph
  * (lower polynomial degree).
  *
- * Orientation: the SH directions are taken in world (scanner) coordinates, as MRtrix3 and
- * DIPY's odf_slicer do; DataToWorldMatrix (e.g. vtkNIFTIImageReader::GetQFormMatrix()) only
- * places the glyph centres. Give an image slice of the same data the same matrix as its
- * actor's UserMatrix so both line up. An actor transform, in contrast, moves and rotates the
- * glyphs as a whole.
+ * Orientation: DataToWorldMatrix (e.g. vtkNIFTIImageReader::GetQFormMatrix()) places the glyph
+ * centres; give an image slice of the same data the same matrix as its actor's UserMatrix so
+ * both line up. The SH directions are taken in world (scanner) axes, as MRtrix3 stores FODs
+ * and DIPY's odf_slicer assumes. When they are given in other axes, e.g. a DIPY fit made with
+ * FSL-style b-vectors (the file's voxel axes), set DirectionToWorldMatrix to the map from
+ * those axes to world axes (for a NIfTI file: its affine; with vtkNIFTIImageReader, the qform
+ * matrix with its third column multiplied by GetQFac(), since the reader reverses the slices
+ * when qfac is -1): each glyph is then turned by the rotation closest to that matrix. An actor
+ * transform moves and turns the glyphs as a whole.
  *
  * Size: a glyph of normalised amplitude 1 has radius ScaleFactor times half the smallest voxel
  * spacing for image input (the default fills the voxel) and ScaleFactor world units otherwise.
@@ -65,7 +69,7 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
-   * Includes the DataToWorldMatrix's modification time.
+   * Includes the modification times of DataToWorldMatrix and DirectionToWorldMatrix.
    */
   vtkMTimeType GetMTime() override;
 
@@ -206,6 +210,15 @@ public:
 
   ///@{
   /**
+   * Map from the axes of the SH directions to world axes (only its 3x3 part counts, and only
+   * its rotation: scaling and shear are removed). Null (default): directions are in world axes.
+   */
+  void SetDirectionToWorldMatrix(vtkMatrix4x4* matrix);
+  vtkGetObjectMacro(DirectionToWorldMatrix, vtkMatrix4x4);
+  ///@}
+
+  ///@{
+  /**
    * Point-data array that masks glyphs: a glyph is drawn where its first component is not 0.
    * Null (default): no mask.
    */
@@ -312,6 +325,7 @@ protected:
     VTK_INT_MAX };
   int DrawnExtent[6] = { 0, -1, 0, -1, 0, -1 };
   vtkMatrix4x4* DataToWorldMatrix = nullptr;
+  vtkMatrix4x4* DirectionToWorldMatrix = nullptr;
   char* MaskArrayName = nullptr;
   int Coloring = COLOR_BY_DIRECTION;
   int NegativeLobes = NEGATIVE_LOBES_SHOW;

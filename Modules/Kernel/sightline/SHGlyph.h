@@ -56,6 +56,11 @@ dvec3 shGlyphHalfExtents(int order, const double* coefficients);
 /// The same without the safety margin (what the validation test compares).
 dvec3 shGlyphHalfExtentsUnpadded(int order, const double* coefficients);
 
+/// Largest |F(w)| over the sphere: the radius of the glyph's longest lobe, which per-glyph
+/// normalisation divides by. The best of ~6 (k+1)^2 Fibonacci directions, refined by Newton's
+/// method on the sphere.
+double shGlyphMaxRadius(int order, const double* coefficients);
+
 /// Radius of a sphere that certainly contains the glyph: sum_j |b_j| max|Y_j| (the bound of
 /// Peeters et al. 2009 that ray-marching baselines use).
 double shGlyphBoundingRadius(int order, const double* coefficients);

@@ -68,9 +68,8 @@ struct SHGlyphOptions
   bool marchingUsesTightBoxes = false;
 };
 
-/// Largest |F(w)| over the unit sphere of an SH function given in `convention`: the radius of
-/// the glyph's longest lobe, which normalisations divide by. Dense Fibonacci sampling, then a
-/// local pattern search from the best sample; relative error about 1e-6 (enough to normalise).
+/// shGlyphMaxRadius for coefficients given in `convention`: the radius of the glyph's longest
+/// lobe, which normalisations divide by.
 double shMaxAmplitude(int order, const float* coefficients, const SHConvention& convention);
 
 /// Euclidean norm of the coefficients in the orthonormal canonical basis (the L2 norm of F

@@ -374,9 +374,8 @@ struct FibonacciTable
   std::vector<dvec3> directions;
   std::vector<double> basis; ///< count x shCoefficientCount(order)
 
-  explicit FibonacciTable(int k) : order(k)
+  FibonacciTable(int k, int samples) : order(k), count(samples)
   {
-    count = 256 * std::max(k, 1);
     const int stride = shCoefficientCount(k);
     directions.resize(count);
     basis.resize(std::size_t(count) * stride);
@@ -393,11 +392,24 @@ struct FibonacciTable
   }
 };
 
+/// The box search's directions: k * 256, as the paper validated.
 const FibonacciTable& fibonacciTable(int order)
 {
   static std::unique_ptr<FibonacciTable> tables[kOrderSlots];
   static std::once_flag flags[kOrderSlots];
-  std::call_once(flags[order / 2], [order] { tables[order / 2] = std::make_unique<FibonacciTable>(order); });
+  std::call_once(flags[order / 2],
+    [order] { tables[order / 2] = std::make_unique<FibonacciTable>(order, 256 * std::max(order, 1)); });
+  return *tables[order / 2];
+}
+
+/// Coarser directions for the largest amplitude, which Newton's method then refines: about
+/// four samples across the narrowest lobe (angular width ~ pi / k) suffice to land in its basin.
+const FibonacciTable& peakSearchTable(int order)
+{
+  static std::unique_ptr<FibonacciTable> tables[kOrderSlots];
+  static std::once_flag flags[kOrderSlots];
+  std::call_once(flags[order / 2], [order]
+    { tables[order / 2] = std::make_unique<FibonacciTable>(order, 64 + 6 * (order + 1) * (order + 1)); });
   return *tables[order / 2];
 }
 
@@ -535,6 +547,115 @@ dvec3 shGlyphHalfExtents(int order, const double* b)
 {
   const double margin = order <= 8 ? 1.025 : 1.035;
   return margin * shGlyphHalfExtentsUnpadded(order, b);
+}
+
+namespace
+{
+/// Climbs from the direction w (where |F| = best) to the top of its peak and returns |F| there.
+double refinePeak(int order, const double* b, dvec3 w, double best, double sampleSpacing)
+{
+  // Newton's method on the sphere for the extremum of s F (s the sign of F at the sample):
+  // Riemannian gradient P g and Hessian P H P - (w.g) P with P = I - w w^T, in a tangent basis.
+  // A step is kept only when |F| grows, so the result is never worse than the sample.
+  bool converged = false;
+  for (int iteration = 0; iteration < 8 && !converged; ++iteration)
+  {
+    const SHFunctionValue<double> f = evaluateSHFunction<double>(order, b, w.x, w.y, w.z, true);
+    const double sign = f.value < 0.0 ? -1.0 : 1.0;
+    const dvec3 g = sign * dvec3(f.gradient[0], f.gradient[1], f.gradient[2]);
+    const auto& h = f.hessian;
+    const glm::dmat3 H = sign * glm::dmat3(h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5]);
+    const dvec3 u = glm::normalize(glm::cross(w, std::abs(w.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
+    const dvec3 v = glm::cross(w, u);
+    const double wg = glm::dot(w, g);
+    const double huu = glm::dot(u, H * u) - wg, huv = glm::dot(u, H * v), hvv = glm::dot(v, H * v) - wg;
+    const double gu = glm::dot(u, g), gv = glm::dot(v, g);
+    const double det = huu * hvv - huv * huv;
+    if (!(huu < 0.0 && det > 0.0)) // outside the peak's concave basin: compass search below
+      break;
+    const double su = -(hvv * gu - huv * gv) / det, sv = -(huu * gv - huv * gu) / det;
+    converged = su * su + sv * sv < 1e-16;
+    const dvec3 candidate = glm::normalize(w + su * u + sv * v);
+    const double value = std::abs(evaluateSHSum<double>(order, b, candidate.x, candidate.y, candidate.z));
+    if (!(value > best))
+      break;
+    best = value;
+    w = candidate;
+  }
+  if (converged)
+    return best;
+  // A sharp lobe between samples: a compass search (four tangent steps, halved when none
+  // improves) climbs to it where Newton's quadratic model does not hold.
+  const auto amplitude = [&](const dvec3& x) { return std::abs(evaluateSHSum<double>(order, b, x.x, x.y, x.z)); };
+  dvec3 u = glm::normalize(glm::cross(w, std::abs(w.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
+  for (double step = 2.0 * sampleSpacing; step > 1e-5;)
+  {
+    const dvec3 v = glm::cross(w, u);
+    bool moved = false;
+    for (const dvec3& t : { u, -u, v, -v })
+    {
+      const dvec3 candidate = glm::normalize(w + step * t);
+      const double value = amplitude(candidate);
+      if (value > best)
+      {
+        best = value;
+        w = candidate;
+        moved = true;
+        break;
+      }
+    }
+    if (!moved)
+      step *= 0.5;
+    u = glm::normalize(u - glm::dot(u, w) * w);
+  }
+  return best;
+}
+} // namespace
+
+double shGlyphMaxRadius(int order, const double* b)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = peakSearchTable(order);
+  const int stride = shCoefficientCount(order);
+  // The few best samples that lie on different peaks (not within ~17 degrees of each other or
+  // of the antipode): two lobes of nearly equal height must both be climbed.
+  constexpr int kCandidates = 4;
+  const double sameLobe = 0.955;
+  int candidate[kCandidates];
+  double height[kCandidates];
+  int found = 0;
+  const double* row = table.basis.data();
+  for (int l = 0; l < table.count; ++l, row += stride)
+  {
+    double value = 0.0;
+    for (int j = 0; j < stride; ++j)
+      value += b[j] * row[j];
+    value = std::abs(value);
+    if (found == kCandidates && value <= height[kCandidates - 1])
+      continue;
+    int near = -1;
+    for (int c = 0; c < found && near < 0; ++c)
+      if (std::abs(glm::dot(table.directions[l], table.directions[candidate[c]])) > sameLobe)
+        near = c;
+    if (near >= 0 && value <= height[near])
+      continue;
+    int slot = near >= 0 ? near : (found < kCandidates ? found++ : kCandidates - 1);
+    for (; slot > 0 && height[slot - 1] < value; --slot) // keep the list sorted, best first
+    {
+      height[slot] = height[slot - 1];
+      candidate[slot] = candidate[slot - 1];
+    }
+    height[slot] = value;
+    candidate[slot] = l;
+  }
+  if (found == 0 || order == 0 || !(height[0] > 0.0))
+    return found ? std::max(height[0], 0.0) : 0.0;
+  const double spacing = std::sqrt(4.0 * double(kPi) / table.count);
+  double best = 0.0;
+  for (int c = 0; c < found; ++c)
+    if (height[c] > 0.8 * height[0])
+      best = std::max(best, refinePeak(order, b, table.directions[candidate[c]], height[c], spacing));
+  return best;
 }
 
 double shGlyphBoundingRadius(int order, const double* b)

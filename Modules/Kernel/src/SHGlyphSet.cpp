@@ -1,11 +1,8 @@
 #include "sightline/SHGlyphSet.h"
 
-#include <glm/gtc/constants.hpp>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <array>
-#include <mutex>
 #include <chrono>
 #include <limits>
 #include <cmath>
@@ -126,95 +123,14 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
     AllBounds.extend(glyph.box);
 }
 
-namespace
-{
-/// Fibonacci directions dense enough for every lobe of an order (angular width ~ pi / order,
-/// sampled about 4 times across) and the canonical basis evaluated at them, built once.
-struct AmplitudeSamples
-{
-  std::vector<dvec3> directions;
-  std::vector<double> basis; ///< shCoefficientCount(order) values per direction
-};
-
-const AmplitudeSamples& amplitudeSamples(int order)
-{
-  static std::array<AmplitudeSamples, kMaxSHOrder / 2 + 1> table;
-  static std::array<std::once_flag, kMaxSHOrder / 2 + 1> built;
-  std::call_once(built[order / 2], [order]
-    {
-      AmplitudeSamples& s = table[order / 2];
-      const int count = std::max(64, 6 * (order + 1) * (order + 1));
-      const int stride = shCoefficientCount(order);
-      const double golden = glm::pi<double>() * (3.0 - std::sqrt(5.0));
-      s.directions.resize(count);
-      s.basis.resize(std::size_t(count) * stride);
-      for (int i = 0; i < count; ++i)
-      {
-        const double z = 1.0 - (2.0 * i + 1.0) / count;
-        const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-        s.directions[i] = dvec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
-        evaluateSH<double>(order, s.directions[i].x, s.directions[i].y, s.directions[i].z,
-          s.basis.data() + std::size_t(i) * stride);
-      }
-    });
-  return table[order / 2];
-}
-} // namespace
-
 double shMaxAmplitude(int order, const float* coefficients, const SHConvention& convention)
 {
   if (order < 0 || order > kMaxSHOrder || order % 2 != 0)
     throw std::invalid_argument("SH order " + std::to_string(order) + " is not an even number in [0, " +
       std::to_string(kMaxSHOrder) + "]");
-  const int stride = shCoefficientCount(order);
-  std::vector<double> c(stride);
+  std::vector<double> c(shCoefficientCount(order));
   SHConversion::toCanonical(convention, order).apply(coefficients, c.data());
-  auto amplitude = [&](const dvec3& w)
-  { return std::abs(evaluateSHSum<double>(order, c.data(), w.x, w.y, w.z)); };
-
-  // The best sample, then a compass search on the sphere that halves its step until the
-  // step is far below any lobe's width.
-  const AmplitudeSamples& samples = amplitudeSamples(order);
-  dvec3 best(0.0, 0.0, 1.0);
-  double bestValue = -1.0;
-  for (std::size_t i = 0; i < samples.directions.size(); ++i)
-  {
-    const double* y = samples.basis.data() + i * stride;
-    double value = 0.0;
-    for (int j = 0; j < stride; ++j)
-      value += c[j] * y[j];
-    if (std::abs(value) > bestValue)
-    {
-      bestValue = std::abs(value);
-      best = samples.directions[i];
-    }
-  }
-  if (order == 0 || !(bestValue > 0.0))
-    return std::max(bestValue, 0.0);
-  const dvec3 helper = std::abs(best.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
-  dvec3 u = glm::normalize(glm::cross(best, helper));
-  double step = 2.0 * std::sqrt(4.0 * glm::pi<double>() / double(samples.directions.size()));
-  while (step > 1e-3) // amplitude error ~ curvature * step^2: about 1e-6 relative
-  {
-    const dvec3 v = glm::cross(best, u);
-    bool moved = false;
-    for (const dvec3& t : { u, -u, v, -v })
-    {
-      const dvec3 w = glm::normalize(best + step * t);
-      const double value = amplitude(w);
-      if (value > bestValue)
-      {
-        bestValue = value;
-        best = w;
-        moved = true;
-        break;
-      }
-    }
-    if (!moved)
-      step *= 0.5;
-    u = glm::normalize(u - glm::dot(u, best) * best);
-  }
-  return bestValue;
+  return shGlyphMaxRadius(order, c.data());
 }
 
 double shCoefficientNorm(int order, const float* coefficients, const SHConvention& convention)

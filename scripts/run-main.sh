@@ -1,13 +1,19 @@
 #!/usr/bin/env bash
-# Sets up, builds, and runs Sightline's main job: DIPY's tractography bundles as exact
-# ray-traced spheres, rendered in a VTK window and without OpenGL. Images go to ./output.
+# Sets up, builds, and runs Sightline's main job on data shipped with Debian: a slice of exact
+# SH glyphs from DIPY's small_64D diffusion data with soft shadows, and DIPY's tractography
+# bundles as exact spheres (in a VTK window and without OpenGL). Images go to ./output.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SIGHTLINE_BUILD_DIR:-$root/build}"
 "$root/scripts/install-dependencies.sh"
 "$root/scripts/build.sh"
 cd "$root"
-# Debian's VTK is built for X only: the window renders under a virtual X server.
-PYTHONPATH="$build/lib/python3/dist-packages" LD_LIBRARY_PATH="$build/lib" \
-  xvfb-run -a -s "-screen 0 1920x1080x24" \
+export PYTHONPATH="$build/lib/python3/dist-packages" LD_LIBRARY_PATH="$build/lib"
+# Debian's VTK is built for X only: the windows render under a virtual X server.
+# 1. Exact SH glyphs (fibre ODFs) of DIPY's small_64D, fitted with CSD, over its FA slice, with
+#    soft shadows: output/sh_glyphs_axial_4.png.
+xvfb-run -a -s "-screen 0 1920x1080x24" \
+  /usr/bin/python3 Examples/Python/render_sh_glyphs.py --output "$root/output" --size 1600 1000
+# 2. DIPY's tractography bundles as exact spheres, in a window and without OpenGL.
+xvfb-run -a -s "-screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tractography.py --output "$root/output" "$@"

@@ -113,6 +113,20 @@ std::array<int, 3> Pixel(vtkImageData* image, int x, int y)
   return { p[0], p[1], p[2] };
 }
 
+int CoveredPixels(vtkImageData* image)
+{
+  int dims[3];
+  image->GetDimensions(dims);
+  int covered = 0;
+  for (int y = 0; y < dims[1]; ++y)
+    for (int x = 0; x < dims[0]; ++x)
+    {
+      const auto p = Pixel(image, x, y);
+      covered += (p[0] + p[1] + p[2]) > 0;
+    }
+  return covered;
+}
+
 int MaxRGBDifference(vtkImageData* a, vtkImageData* b, int* differingPixels)
 {
   int dims[3], dimsB[3];

@@ -36,6 +36,9 @@ vtkSmartPointer<vtkImageData> RenderWithoutGL(const std::vector<vtkActor*>& acto
 /// RGB of a pixel of an RGB or RGBA unsigned-char image.
 std::array<int, 3> Pixel(vtkImageData* image, int x, int y);
 
+/// Number of pixels that are not black (the background of the tests).
+int CoveredPixels(vtkImageData* image);
+
 /// Largest per-channel RGB difference between two images of the same size.
 int MaxRGBDifference(vtkImageData* a, vtkImageData* b, int* differingPixels = nullptr);
 

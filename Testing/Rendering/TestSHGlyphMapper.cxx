@@ -160,20 +160,6 @@ vtkSmartPointer<vtkImageData> RenderVoxel(
   return CaptureRGB(scene.window);
 }
 
-int CoveredPixels(vtkImageData* image)
-{
-  int dims[3];
-  image->GetDimensions(dims);
-  int covered = 0;
-  for (int y = 0; y < dims[1]; ++y)
-    for (int x = 0; x < dims[0]; ++x)
-    {
-      const auto p = Pixel(image, x, y);
-      covered += (p[0] + p[1] + p[2]) > 0;
-    }
-  return covered;
-}
-
 /// A light from the upper left, so that glyphs cast visible shadows on each other.
 vtkSmartPointer<vtkLight> ObliqueLight(vtkRenderer* renderer)
 {

@@ -51,20 +51,6 @@ vtkSmartPointer<vtkPolyData> SampleSpheres()
                        { -0.9, 1.1, 0.8 }, { 1.1, -1.3, 0.6 }, { 0, -0.2, 1.4 } },
     { 1.0, 0.6, 0.7, 0.5, 0.45, 0.55, 0.3 });
 }
-
-int CoveredPixels(vtkImageData* image)
-{
-  int dims[3];
-  image->GetDimensions(dims);
-  int covered = 0;
-  for (int y = 0; y < dims[1]; ++y)
-    for (int x = 0; x < dims[0]; ++x)
-    {
-      const auto p = Pixel(image, x, y);
-      covered += (p[0] + p[1] + p[2]) > 0;
-    }
-  return covered;
-}
 } // namespace
 
 TEST(SphereMapper, ScalarColouredSpheresMatchBaseline)

@@ -37,6 +37,9 @@ struct Options
   /// Tessellations with more triangles are skipped so the largest scenes fit in memory.
   long long maxTriangles = 100000000;
   unsigned seed = 20240601;
+  /// Where scenes that read real data find or generate it; empty: a folder in the output
+  /// directory (sh-glyph-window: the tiled NIfTI of scripts/make_sh_data.py and DIPY's spheres).
+  std::string dataDirectory;
   bool plot = true;
   std::string python;
   std::string plotScript;
@@ -134,7 +137,15 @@ struct MethodResult
   double buildSeconds = kNotMeasured;      ///< acceleration structure / tessellation + upload
   double firstImageSeconds = kNotMeasured; ///< from the scene's data to the first image
   FrameTiming frame;
+  /// Frames while the window asks for an interactive rate (SetDesiredUpdateRate(15)); scenes
+  /// that do not measure it leave it empty.
+  FrameTiming interactiveFrame;
   double bytesPerPrimitive = kNotMeasured;
+  double memoryBytes = kNotMeasured;      ///< everything the method holds (not per primitive)
+  double rssIncreaseBytes = kNotMeasured; ///< process VmRSS after the first image minus before
+  /// A scene-specific update and the frame after it (sh-glyph-window: a ScaleFactor change,
+  /// i.e. rebuilding the glyphs from cached boxes, the BVH and the frame).
+  double updateSeconds = kNotMeasured;
   ImageError error;                 ///< filled in by the harness
   double hitPercent = kNotMeasured; ///< filled in by the harness
   std::string notes;

@@ -39,6 +39,8 @@ void printUsage(std::ostream& out)
        "                          (default 8,16,32; 'none' for no baseline)\n"
        "  --max-triangles T       skip tessellations with more triangles (default 100M)\n"
        "  --seed S                random seed of the scene (default 20240601)\n"
+       "  --data-dir DIR          where scenes that read real data find it or generate it\n"
+       "                          (default: a folder in --output)\n"
        "  --no-plot               do not run plot_benchmarks.py at the end\n"
        "  --python PATH           Python with matplotlib (default " SIGHTLINE_BENCHMARK_PYTHON ")\n"
        "  --plot-script PATH      plot_benchmarks.py to run (default: installed next to this "
@@ -172,8 +174,9 @@ void writeCsv(const std::string& path, const std::string& scene,
   out << "scene,method,status,primitives,triangles,width,height,build_seconds,"
          "first_image_seconds,frame_seconds_median,frame_seconds_min,runs,"
          "frame_time_vs_sightline,bytes_per_primitive,rgb_mean_abs_diff,coverage_diff_percent,"
-         "depth_max_abs_diff,depth_p99_abs_diff,hit_percent,notes,cpu_model,logical_cores,"
-         "tbb_threads,memory_gib,load_average,gl_renderer,gl_version,vtk_version,embree_version,"
+         "depth_max_abs_diff,depth_p99_abs_diff,hit_percent,interactive_frame_seconds_median,"
+         "interactive_frame_seconds_min,memory_bytes,rss_increase_bytes,update_seconds,notes,"
+         "cpu_model,logical_cores,tbb_threads,memory_gib,load_average,gl_renderer,gl_version,vtk_version,embree_version,"
          "date\n";
   for (const MethodResult& row : rows)
   {
@@ -185,7 +188,10 @@ void writeCsv(const std::string& path, const std::string& scene,
         << field(ratioToSightline(rows, row)) << ',' << field(row.bytesPerPrimitive) << ','
         << field(row.error.rgbMeanAbsDiff) << ',' << field(row.error.coverageDiffPercent) << ','
         << field(row.error.depthMaxAbsDiff) << ',' << field(row.error.depthP99AbsDiff) << ','
-        << field(row.hitPercent) << ',' << field(row.notes) << ',' << field(machine.cpuModel) << ','
+        << field(row.hitPercent) << ',' << field(row.interactiveFrame.medianSeconds) << ','
+        << field(row.interactiveFrame.minSeconds) << ',' << field(row.memoryBytes) << ','
+        << field(row.rssIncreaseBytes) << ',' << field(row.updateSeconds) << ',' << field(row.notes)
+        << ',' << field(machine.cpuModel) << ','
         << machine.logicalCores << ',' << machine.tbbThreads << ',' << field(machine.memoryGiB)
         << ',' << field(machine.loadAverage) << ',' << field(machine.glRenderer) << ','
         << field(machine.glVersion) << ',' << field(machine.vtkVersion) << ','
@@ -347,6 +353,8 @@ Options parseArguments(int argc, char* argv[], bool& list, bool& help)
       options.maxTriangles = parseCount(value());
     else if (arg == "--seed")
       options.seed = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--data-dir")
+      options.dataDirectory = value();
     else if (arg == "--no-plot")
       options.plot = false;
     else if (arg == "--python")

@@ -6,7 +6,9 @@ For each <scene>.csv, writes <scene>.png next to it (or to --output): the median
 difference against the reference method), and a bar chart of the bytes each method holds per
 primitive. Methods named GROUP:NAME (a scene that renders several data sets, each with its own
 reference, e.g. sh-glyphs' k4:sightline) get one row of panels per GROUP, and a method keeps
-its colour across groups. Needs matplotlib (Debian: python3-matplotlib); run with
+its colour across groups. When the CSV has interactive frame times (sh-glyph-window), a fourth
+panel per row shows what a window user waits for: time to the first image, still and interactive
+frames and the scene's update (e.g. a ScaleFactor change), per method. Needs matplotlib (Debian: python3-matplotlib); run with
 /usr/bin/python3.
 
     /usr/bin/python3 plot_benchmarks.py RESULTS/spheres.csv [MORE.csv ...] [--output FILE.png]
@@ -113,6 +115,41 @@ def plot_bytes(axis, rows, colors, counts):
     axis.grid(True, axis="y", which="both", alpha=0.3)
 
 
+TIME_COLUMNS = [("first_image_seconds", "first image"), ("frame_seconds_median", "still frame"),
+                ("interactive_frame_seconds_median", "interactive frame"),
+                ("update_seconds", "update + frame")]
+
+
+def has_interactive_times(rows):
+    return any(number(row.get("interactive_frame_seconds_median")) is not None for row in rows)
+
+
+def plot_times(axis, rows):
+    """Grouped bars: for each method, the times a window user waits for (log scale)."""
+    methods = list(dict.fromkeys(row["method"] for row in rows))
+    by_method = {row["method"]: row for row in rows}
+    width = 0.8 / len(TIME_COLUMNS)
+    palette = plt.get_cmap("Set2")
+    for c, (column, label) in enumerate(TIME_COLUMNS):
+        for m, method in enumerate(methods):
+            value = number(by_method[method].get(column))
+            if value is None:
+                continue
+            bar = axis.bar(m + (c - (len(TIME_COLUMNS) - 1) / 2) * width, value, width,
+                           color=palette(c), edgecolor="black", linewidth=0.5,
+                           label=label if m == next(i for i, name in enumerate(methods)
+                                                    if number(by_method[name].get(column))
+                                                    is not None) else None)
+            axis.bar_label(bar, fmt="%.2g", fontsize=6, padding=1)
+    axis.set_xticks(range(len(methods)))
+    axis.set_xticklabels([split_method(method)[1] for method in methods], rotation=30, ha="right",
+                         fontsize=8)
+    axis.set_yscale("log")
+    axis.set_ylabel("seconds (log)")
+    axis.legend(fontsize=7, loc="upper left")
+    axis.grid(True, axis="y", which="both", alpha=0.3)
+
+
 def plot_csv(path, output):
     rows = read_rows(path)
     if not rows:
@@ -126,7 +163,9 @@ def plot_csv(path, output):
     markers = {count: marker_cycle[i % len(marker_cycle)] for i, count in enumerate(counts)}
 
     groups = list(dict.fromkeys(split_method(row["method"])[0] for row in rows))
-    figure, axes = plt.subplots(len(groups), 3, figsize=(18, 6 * len(groups)), squeeze=False)
+    columns = 4 if has_interactive_times(measured) else 3
+    figure, axes = plt.subplots(len(groups), columns, figsize=(6 * columns, 6 * len(groups)),
+                                squeeze=False)
     for g, group in enumerate(groups):
         in_group = [row for row in measured if split_method(row["method"])[0] == group]
         title = f"{group}: " if group else ""
@@ -139,6 +178,9 @@ def plot_csv(path, output):
         axes[g][1].set_title(title + "frame time against silhouette (coverage) error", fontsize=9)
         if title:
             axes[g][2].set_title(title + axes[g][2].get_title(), fontsize=9)
+        if columns == 4:
+            plot_times(axes[g][3], in_group)
+            axes[g][3].set_title(title + "what a window user waits for", fontsize=9)
 
     first = rows[0]
     skipped = [f"{row['method']} ({short_count(row['primitives'])})"

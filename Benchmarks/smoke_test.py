@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Smoke test of sightline-benchmark (ctest: sightline-benchmark-smoke, labels benchmark;display,
-and sightline-benchmark-smoke-sh-glyphs, label benchmark).
+sightline-benchmark-smoke-sh-glyphs, label benchmark, and sightline-benchmark-smoke-sh-glyph-window,
+labels benchmark;display).
 
 --scene spheres (the default) runs the harness on a tiny sphere scene and checks what it wrote,
 not the timings: every method has its row, the exact Sightline images (GL-free and in a window)
@@ -14,6 +15,13 @@ reference, ray marching is less accurate than the exact method, coarser icospher
 are less accurate than finer ones, marching with near-exact boxes draws what marching with the
 bounding sphere's boxes draws, the images and the intersection-cost CSV exist, and the plot script
 makes its figure.
+
+--scene sh-glyph-window runs a 12x12 tile of real SH glyphs at 192x108 in render windows (needs a
+display; --data-dir keeps the generated data between runs, its first generation takes about 30 s)
+and checks that k8 and k4 each have the Sightline row and both DIPY-sphere mesh rows with every
+measurement (first image, still and interactive frames, memory, RSS, Sightline's ScaleFactor
+update with no box recomputed), that the meshes line up with Sightline's exact glyphs (small
+errors, so basis, size and colours agree) and that the coarser sphere is the less accurate.
 """
 
 import argparse
@@ -256,16 +264,110 @@ def check_sh_glyphs(arguments):
     return 0
 
 
+WINDOW_SIDE = 12
+WINDOW_WIDTH, WINDOW_HEIGHT = 192, 108
+WINDOW_ORDERS = ["k8", "k4"]
+WINDOW_SPHERES = [724, 100]
+# The meshes sample the same |F| on DIPY's spheres: at 8 px per glyph they differ from the
+# exact glyphs on silhouettes only. A wrong basis, size or colour gives errors of 10 and more.
+MAX_WINDOW_MESH_RGB_DIFF = 6.0
+
+
+def check_sh_glyph_window(arguments):
+    if os.path.isdir(arguments.output):
+        shutil.rmtree(arguments.output)
+    count = WINDOW_SIDE * WINDOW_SIDE
+    command = [arguments.harness, "--scene", "sh-glyph-window", "--count", str(count),
+               "--width", str(WINDOW_WIDTH), "--height", str(WINDOW_HEIGHT), "--runs", "3",
+               "--tessellation", ",".join(map(str, WINDOW_SPHERES)),
+               "--output", arguments.output, "--no-plot"]
+    if arguments.data_dir:
+        command += ["--data-dir", arguments.data_dir]
+    print(" ".join(command), flush=True)
+    if subprocess.run(command, timeout=110).returncode != 0:
+        fail("the harness failed")
+
+    csv_path = os.path.join(arguments.output, "sh-glyph-window.csv")
+    if not os.path.isfile(csv_path):
+        fail(f"no {csv_path}")
+    with open(csv_path, newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    meshes = [f"dipy-repulsion{vertices}" for vertices in WINDOW_SPHERES]
+    expected = [f"{k}:{m}" for k in WINDOW_ORDERS for m in ["sightline"] + meshes]
+    methods = [row["method"] for row in rows]
+    if sorted(methods) != sorted(expected):
+        fail(f"methods in the CSV are {methods}, expected {expected}")
+    by_method = {row["method"]: row for row in rows}
+
+    for row in rows:
+        name = row["method"]
+        if row["status"] != "ok":
+            fail(f"{name}: status {row['status']} ({row['notes']})")
+        size = (int(row["primitives"]), int(row["width"]), int(row["height"]))
+        if size != (count, WINDOW_WIDTH, WINDOW_HEIGHT):
+            fail(f"{name}: wrong primitives or image size in the CSV: {size}")
+        for column in ["first_image_seconds", "frame_seconds_median",
+                       "interactive_frame_seconds_median", "memory_bytes", "bytes_per_primitive"]:
+            if value(row, column) <= 0:
+                fail(f"{name}: {column} must be positive")
+        value(row, "rss_increase_bytes")  # measured (its sign depends on the allocator)
+        if not 1.0 < value(row, "hit_percent") < 95.0:
+            fail(f"{name}: {row['hit_percent']}% of the pixels hit; the camera framing is off")
+        suffixes = ["", "-crop"] + ([] if name.endswith(":sightline") else ["-diff"])
+        for suffix in suffixes:
+            image = os.path.join(arguments.output, "images",
+                                 f"sh-glyph-window-{count}-{name}{suffix}.png")
+            if not os.path.isfile(image) or os.path.getsize(image) == 0:
+                fail(f"no image {image}")
+
+    for k in WINDOW_ORDERS:
+        exact = by_method[f"{k}:sightline"]
+        if value(exact, "rgb_mean_abs_diff") != 0.0:
+            fail(f"{k}:sightline differs from itself")
+        if value(exact, "update_seconds") <= 0:
+            fail(f"{k}:sightline: the ScaleFactor update was not timed")
+        if "boxes computed on update: 0," not in exact["notes"]:
+            fail(f"{k}:sightline: the ScaleFactor update recomputed boxes: {exact['notes']}")
+        errors = []
+        for mesh in meshes:
+            row = by_method[f"{k}:{mesh}"]
+            error = value(row, "rgb_mean_abs_diff")
+            if not 0.0 < error < MAX_WINDOW_MESH_RGB_DIFF:
+                fail(f"{k}:{mesh}: RGB error {error} against the exact glyphs; the mesh does not "
+                     "line up with Sightline's glyphs (basis, size or colours)")
+            if int(row["triangles"]) <= 0:
+                fail(f"{k}:{mesh}: no triangle count")
+            errors.append(error)
+        if not errors[0] < errors[-1]:
+            fail(f"{k}: the {WINDOW_SPHERES[0]}-vertex mesh ({errors[0]}) is not more accurate "
+                 f"than the {WINDOW_SPHERES[-1]}-vertex one ({errors[-1]})")
+
+    plot = subprocess.run([sys.executable, arguments.plot_script, csv_path], timeout=60)
+    plot_path = os.path.join(arguments.output, "sh-glyph-window.png")
+    if plot.returncode != 0 or not os.path.isfile(plot_path) or os.path.getsize(plot_path) < 10000:
+        fail("plot_benchmarks.py did not write the plot")
+
+    print(f"OK: {len(rows)} rows; mesh RGB errors "
+          + ", ".join(f"{k}:{m} {by_method[k + ':' + m]['rgb_mean_abs_diff']}"
+                      for k in WINDOW_ORDERS for m in meshes)
+          + f"; plot {plot_path}")
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--harness", required=True)
     parser.add_argument("--plot-script", required=True)
     parser.add_argument("--output", required=True)
-    parser.add_argument("--scene", choices=["spheres", "sh-glyphs"], default="spheres")
+    parser.add_argument("--scene", choices=["spheres", "sh-glyphs", "sh-glyph-window"],
+                        default="spheres")
+    parser.add_argument("--data-dir", help="sh-glyph-window: where its data is kept")
     arguments = parser.parse_args()
     if arguments.scene == "sh-glyphs":
         return check_sh_glyphs(arguments)
+    if arguments.scene == "sh-glyph-window":
+        return check_sh_glyph_window(arguments)
     return check_spheres(arguments)
 
 

@@ -89,43 +89,15 @@ struct Dataset
   std::string skipReason;          ///< non-empty: the data could not be loaded
 };
 
-/// Spherical Fibonacci directions over the whole sphere.
-std::vector<dvec3> fibonacciSphere(int count)
-{
-  std::vector<dvec3> directions(count);
-  const double golden = kPi * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < count; ++i)
-  {
-    const double z = 1.0 - (2.0 * i + 1.0) / count;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    directions[i] = { r * std::cos(golden * i), r * std::sin(golden * i), z };
-  }
-  return directions;
-}
-
-/// max |F| over many directions for each glyph of canonical coefficients (`stride` per glyph).
+/// max |F| of each glyph of canonical coefficients (`stride` per glyph): the kernel's
+/// shGlyphMaxRadius, which the VTK mapper's normalisation uses too.
 std::vector<double> maxAbsValues(int order, const std::vector<double>& canonical)
 {
   const int stride = sightline::shCoefficientCount(order);
-  const std::vector<dvec3> directions = fibonacciSphere(2000);
-  std::vector<double> basis(directions.size() * stride);
-  for (std::size_t d = 0; d < directions.size(); ++d)
-    sightline::evaluateSH<double>(order, directions[d].x, directions[d].y, directions[d].z,
-      basis.data() + d * stride);
   const std::size_t n = canonical.size() / stride;
   std::vector<double> result(n);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i)
-    {
-      double largest = 0.0;
-      for (std::size_t d = 0; d < directions.size(); ++d)
-      {
-        double value = 0.0;
-        for (int j = 0; j < stride; ++j)
-          value += canonical[i * stride + j] * basis[d * stride + j];
-        largest = std::max(largest, std::abs(value));
-      }
-      result[i] = largest;
-    });
+  tbb::parallel_for(std::size_t(0), n,
+    [&](std::size_t i) { result[i] = sightline::shGlyphMaxRadius(order, canonical.data() + i * stride); });
   return result;
 }
 

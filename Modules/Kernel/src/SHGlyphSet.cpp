@@ -180,7 +180,30 @@ int SHGlyphSet::exactIntersections(const Glyph& glyph, const Ray& ray, double* t
   const dvec3 d = dvec3(ray.direction);
   const double length = glm::length(d);
   const dvec3 du = d / length;
-  const double tmin = double(ray.tnear) * length, tmax = double(ray.tfar) * length;
+  double tmin = double(ray.tnear) * length, tmax = double(ray.tfar) * length;
+  // Clip the ray to the glyph's box (the BVH leaf may hold several glyphs, and a shorter
+  // interval means less root isolation); the box encloses the glyph with padding already,
+  // the margin only absorbs rounding in this test.
+  {
+    const double margin = 1e-5 * double(std::max(glyph.halfExtents.x,
+      std::max(glyph.halfExtents.y, glyph.halfExtents.z)));
+    double t0 = tmin, t1 = tmax;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double h = double(glyph.halfExtents[axis]) + margin;
+      const double inv = 1.0 / du[axis];
+      double ta = (-h - o[axis]) * inv, tb = (h - o[axis]) * inv;
+      if (ta > tb)
+        std::swap(ta, tb);
+      // An axis-parallel ray (inv infinite) inside the slab gives -inf..inf; NaN keeps t0/t1.
+      t0 = ta > t0 ? ta : t0;
+      t1 = tb < t1 ? tb : t1;
+    }
+    if (!(t0 <= t1))
+      return 0;
+    tmin = t0;
+    tmax = t1;
+  }
   int count;
   if (glyph.useFloat)
   {

@@ -61,6 +61,29 @@ def value(row, column):
     return number
 
 
+def csv_file(arguments, scene):
+    return os.path.join(arguments.output, f"{scene}.csv")
+
+
+def read_rows(arguments, scene, expected):
+    """The scene's CSV rows, after checking that exactly the `expected` methods are there."""
+    csv_path = csv_file(arguments, scene)
+    if not os.path.isfile(csv_path):
+        fail(f"no {csv_path}")
+    with open(csv_path, newline="") as stream:
+        rows = list(csv.DictReader(stream))
+    methods = [row["method"] for row in rows]
+    if sorted(methods) != sorted(expected):
+        fail(f"methods in the CSV are {methods}, expected {expected}")
+    return rows, {row["method"]: row for row in rows}
+
+
+def check_size(row, count, width, height):
+    size = (int(row["primitives"]), int(row["width"]), int(row["height"]))
+    if size != (count, width, height):
+        fail(f"{row['method']}: wrong primitives or image size in the CSV: {size}")
+
+
 def check_spheres(arguments):
     if os.path.isdir(arguments.output):
         shutil.rmtree(arguments.output)
@@ -72,16 +95,8 @@ def check_spheres(arguments):
     if subprocess.run(command, timeout=100).returncode != 0:
         fail("the harness failed")
 
-    csv_path = os.path.join(arguments.output, "spheres.csv")
-    if not os.path.isfile(csv_path):
-        fail(f"no {csv_path}")
-    with open(csv_path, newline="") as stream:
-        rows = list(csv.DictReader(stream))
     expected = [REFERENCE] + EXACT_METHODS + [f"vtk-tessellated-{r}" for r in TESSELLATIONS]
-    methods = [row["method"] for row in rows]
-    if sorted(methods) != sorted(expected):
-        fail(f"methods in the CSV are {methods}, expected {expected}")
-    by_method = {row["method"]: row for row in rows}
+    rows, by_method = read_rows(arguments, "spheres", expected)
 
     for row in rows:
         name = row["method"]
@@ -137,7 +152,8 @@ def check_spheres(arguments):
         fail("the coarsest tessellation is not less accurate than the finest")
 
     # The plot script, run as the harness would (it was told --no-plot to test the script here).
-    plot = subprocess.run([sys.executable, arguments.plot_script, csv_path], timeout=60)
+    plot = subprocess.run([sys.executable, arguments.plot_script, csv_file(arguments, "spheres")],
+                          timeout=60)
     plot_path = os.path.join(arguments.output, "spheres.png")
     if plot.returncode != 0 or not os.path.isfile(plot_path) or os.path.getsize(plot_path) < 10000:
         fail("plot_benchmarks.py did not write the plot")
@@ -174,24 +190,14 @@ def check_sh_glyphs(arguments):
     if subprocess.run(command, timeout=150).returncode != 0:
         fail("the harness failed")
 
-    csv_path = os.path.join(arguments.output, "sh-glyphs.csv")
-    if not os.path.isfile(csv_path):
-        fail(f"no {csv_path}")
-    with open(csv_path, newline="") as stream:
-        rows = list(csv.DictReader(stream))
     expected = [f"{d}:{m}" for d in SH_DATASETS for m in SH_METHODS]
-    methods = [row["method"] for row in rows]
-    if sorted(methods) != sorted(expected):
-        fail(f"methods in the CSV are {methods}, expected {expected}")
-    by_method = {row["method"]: row for row in rows}
+    rows, by_method = read_rows(arguments, "sh-glyphs", expected)
 
     for row in rows:
         name = row["method"]
         if row["status"] != "ok":
             fail(f"{name}: status {row['status']} ({row['notes']})")
-        size = (int(row["primitives"]), int(row["width"]), int(row["height"]))
-        if size != (count, SH_WIDTH, SH_HEIGHT):
-            fail(f"{name}: wrong primitives or image size in the CSV: {size}")
+        check_size(row, count, SH_WIDTH, SH_HEIGHT)
         for column in ["frame_seconds_median", "bytes_per_primitive", "first_image_seconds"]:
             if value(row, column) <= 0:
                 fail(f"{name}: {column} must be positive")
@@ -252,7 +258,8 @@ def check_sh_glyphs(arguments):
             if not float(row[column]) > 0:
                 fail(f"{micro_path}: {column} = {row[column]} for k = {row['order']}")
 
-    plot = subprocess.run([sys.executable, arguments.plot_script, csv_path], timeout=60)
+    plot = subprocess.run([sys.executable, arguments.plot_script, csv_file(arguments, "sh-glyphs")],
+                          timeout=60)
     plot_path = os.path.join(arguments.output, "sh-glyphs.png")
     if plot.returncode != 0 or not os.path.isfile(plot_path) or os.path.getsize(plot_path) < 10000:
         fail("plot_benchmarks.py did not write the plot")
@@ -287,25 +294,15 @@ def check_sh_glyph_window(arguments):
     if subprocess.run(command, timeout=110).returncode != 0:
         fail("the harness failed")
 
-    csv_path = os.path.join(arguments.output, "sh-glyph-window.csv")
-    if not os.path.isfile(csv_path):
-        fail(f"no {csv_path}")
-    with open(csv_path, newline="") as stream:
-        rows = list(csv.DictReader(stream))
     meshes = [f"dipy-repulsion{vertices}" for vertices in WINDOW_SPHERES]
     expected = [f"{k}:{m}" for k in WINDOW_ORDERS for m in ["sightline"] + meshes]
-    methods = [row["method"] for row in rows]
-    if sorted(methods) != sorted(expected):
-        fail(f"methods in the CSV are {methods}, expected {expected}")
-    by_method = {row["method"]: row for row in rows}
+    rows, by_method = read_rows(arguments, "sh-glyph-window", expected)
 
     for row in rows:
         name = row["method"]
         if row["status"] != "ok":
             fail(f"{name}: status {row['status']} ({row['notes']})")
-        size = (int(row["primitives"]), int(row["width"]), int(row["height"]))
-        if size != (count, WINDOW_WIDTH, WINDOW_HEIGHT):
-            fail(f"{name}: wrong primitives or image size in the CSV: {size}")
+        check_size(row, count, WINDOW_WIDTH, WINDOW_HEIGHT)
         for column in ["first_image_seconds", "frame_seconds_median",
                        "interactive_frame_seconds_median", "memory_bytes", "bytes_per_primitive"]:
             if value(row, column) <= 0:
@@ -342,7 +339,8 @@ def check_sh_glyph_window(arguments):
             fail(f"{k}: the {WINDOW_SPHERES[0]}-vertex mesh ({errors[0]}) is not more accurate "
                  f"than the {WINDOW_SPHERES[-1]}-vertex one ({errors[-1]})")
 
-    plot = subprocess.run([sys.executable, arguments.plot_script, csv_path], timeout=60)
+    plot = subprocess.run([sys.executable, arguments.plot_script, csv_file(arguments, "sh-glyph-window")],
+                          timeout=60)
     plot_path = os.path.join(arguments.output, "sh-glyph-window.png")
     if plot.returncode != 0 or not os.path.isfile(plot_path) or os.path.getsize(plot_path) < 10000:
         fail("plot_benchmarks.py did not write the plot")

@@ -192,6 +192,15 @@ bool ParseDataType(const std::string& name, Stored& type, int& bytes, bool& swap
   return false;
 }
 
+/// The value of type T stored in `buffer` (native byte order; memcpy avoids aliasing issues).
+template <class T>
+double Load(const unsigned char* buffer)
+{
+  T value;
+  std::memcpy(&value, buffer, sizeof(T));
+  return static_cast<double>(value);
+}
+
 double Convert(const unsigned char* bytes, Stored type, int size, bool swap)
 {
   unsigned char buffer[8];
@@ -202,49 +211,21 @@ double Convert(const unsigned char* bytes, Stored type, int size, bool swap)
   switch (type)
   {
     case Stored::Int8:
-    {
-      std::int8_t v;
-      std::memcpy(&v, buffer, 1);
-      return v;
-    }
+      return Load<std::int8_t>(buffer);
     case Stored::UInt8:
-      return buffer[0];
+      return Load<std::uint8_t>(buffer);
     case Stored::Int16:
-    {
-      std::int16_t v;
-      std::memcpy(&v, buffer, 2);
-      return v;
-    }
+      return Load<std::int16_t>(buffer);
     case Stored::UInt16:
-    {
-      std::uint16_t v;
-      std::memcpy(&v, buffer, 2);
-      return v;
-    }
+      return Load<std::uint16_t>(buffer);
     case Stored::Int32:
-    {
-      std::int32_t v;
-      std::memcpy(&v, buffer, 4);
-      return v;
-    }
+      return Load<std::int32_t>(buffer);
     case Stored::UInt32:
-    {
-      std::uint32_t v;
-      std::memcpy(&v, buffer, 4);
-      return v;
-    }
+      return Load<std::uint32_t>(buffer);
     case Stored::Float32:
-    {
-      float v;
-      std::memcpy(&v, buffer, 4);
-      return v;
-    }
+      return Load<float>(buffer);
     case Stored::Float64:
-    {
-      double v;
-      std::memcpy(&v, buffer, 8);
-      return v;
-    }
+      return Load<double>(buffer);
   }
   return 0.0;
 }

@@ -203,4 +203,48 @@ inline std::string outputPath(const std::string& name)
 {
   return std::string(SIGHTLINE_TEST_OUTPUT_DIR) + "/" + name;
 }
+/// A camera set up from parameters plus its independent reference matrix.
+struct View
+{
+  sightline::CameraParameters parameters;
+  int width;
+  int height;
+
+  Matrix4 reference() const { return referenceWorldToClip(parameters, double(width) / height); }
+  sightline::Camera camera() const
+  {
+    return sightline::Camera::fromParameters(parameters, width, height);
+  }
+  sightline::vec3 viewDirection() const
+  {
+    return sightline::vec3(glm::normalize(parameters.focalPoint - parameters.position));
+  }
+};
+
+/// Looking down -z at the origin from z = 10, parallel, half height `scale`.
+inline View parallelView(int width, int height, double scale = 2.0)
+{
+  View view{ sightline::CameraParameters{}, width, height };
+  view.parameters.position = { 0, 0, 10 };
+  view.parameters.focalPoint = { 0, 0, 0 };
+  view.parameters.viewUp = { 0, 1, 0 };
+  view.parameters.parallelProjection = true;
+  view.parameters.parallelScale = scale;
+  view.parameters.nearClip = 1.0;
+  view.parameters.farClip = 20.0;
+  return view;
+}
+
+/// An oblique perspective view whose centre pixel looks straight at `focalPoint`.
+inline View perspectiveView(int width, int height, sightline::dvec3 focalPoint)
+{
+  View view{ sightline::CameraParameters{}, width, height };
+  view.parameters.position = { 3, 4, 9 };
+  view.parameters.focalPoint = focalPoint;
+  view.parameters.viewUp = { 0.2, 1, -0.1 };
+  view.parameters.viewAngle = 25.0;
+  view.parameters.nearClip = 0.5;
+  view.parameters.farClip = 40.0;
+  return view;
+}
 } // namespace sightline_test

@@ -33,47 +33,6 @@ struct Sphere
   double radius;
 };
 
-/// A camera set up from parameters plus its independent reference matrix.
-struct View
-{
-  CameraParameters parameters;
-  int width;
-  int height;
-
-  Matrix4 reference() const { return referenceWorldToClip(parameters, double(width) / height); }
-  Camera camera() const { return Camera::fromParameters(parameters, width, height); }
-  vec3 viewDirection() const
-  {
-    return vec3(glm::normalize(parameters.focalPoint - parameters.position));
-  }
-};
-
-View parallelView(int width, int height)
-{
-  View view{ CameraParameters{}, width, height };
-  view.parameters.position = { 0, 0, 10 };
-  view.parameters.focalPoint = { 0, 0, 0 };
-  view.parameters.viewUp = { 0, 1, 0 };
-  view.parameters.parallelProjection = true;
-  view.parameters.parallelScale = 2.0;
-  view.parameters.nearClip = 1.0;
-  view.parameters.farClip = 20.0;
-  return view;
-}
-
-/// An oblique perspective view whose centre pixel looks straight at `focalPoint`.
-View perspectiveView(int width, int height, dvec3 focalPoint)
-{
-  View view{ CameraParameters{}, width, height };
-  view.parameters.position = { 3, 4, 9 };
-  view.parameters.focalPoint = focalPoint;
-  view.parameters.viewUp = { 0.2, 1, -0.1 };
-  view.parameters.viewAngle = 25.0;
-  view.parameters.nearClip = 0.5;
-  view.parameters.farClip = 40.0;
-  return view;
-}
-
 /// The exact primary ray of pixel (x, y), from the reference matrix: unit direction, starting on
 /// the near plane.
 struct ReferenceRay

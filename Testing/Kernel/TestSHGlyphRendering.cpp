@@ -9,6 +9,7 @@
 #include "sightline/SHGlyphSet.h"
 #include "sightline/SphereSet.h"
 
+#include "KernelTestSupport.h"
 #include "SHGlyphTestSupport.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -24,6 +25,9 @@
 
 namespace
 {
+using sightline_test::parallelView;
+using sightline_test::perspectiveView;
+using sightline_test::View;
 using sightline::Camera;
 using sightline::CameraParameters;
 using sightline::dvec3;
@@ -116,44 +120,6 @@ std::vector<float> fibreGlyph(int order, const std::vector<dvec3>& fibres, doubl
     c += noise * normal(random);
   normalizeRadius(order, b, radius);
   return std::vector<float>(b.begin(), b.end());
-}
-
-struct View
-{
-  CameraParameters parameters;
-  int width;
-  int height;
-
-  Camera camera() const { return Camera::fromParameters(parameters, width, height); }
-  vec3 viewDirection() const
-  {
-    return vec3(glm::normalize(parameters.focalPoint - parameters.position));
-  }
-};
-
-View parallelView(int width, int height, double scale)
-{
-  View view{ CameraParameters{}, width, height };
-  view.parameters.position = { 0, 0, 10 };
-  view.parameters.focalPoint = { 0, 0, 0 };
-  view.parameters.viewUp = { 0, 1, 0 };
-  view.parameters.parallelProjection = true;
-  view.parameters.parallelScale = scale;
-  view.parameters.nearClip = 1.0;
-  view.parameters.farClip = 20.0;
-  return view;
-}
-
-View perspectiveView(int width, int height, dvec3 focalPoint)
-{
-  View view{ CameraParameters{}, width, height };
-  view.parameters.position = { 3, 4, 9 };
-  view.parameters.focalPoint = focalPoint;
-  view.parameters.viewUp = { 0.2, 1, -0.1 };
-  view.parameters.viewAngle = 25.0;
-  view.parameters.nearClip = 0.5;
-  view.parameters.farClip = 40.0;
-  return view;
 }
 
 Framebuffer render(const EmbreeScene& scene, const Camera& camera, const Lighting& lighting,

@@ -2,6 +2,8 @@
 
 #include "sightline/SphericalHarmonics.h"
 
+#include "LinearSolve.h"
+
 #include <glm/gtc/constants.hpp>
 
 #include <cmath>
@@ -10,47 +12,6 @@
 
 namespace sightline
 {
-namespace
-{
-/// Solves the symmetric positive definite system M x = b in place (Cholesky), M n x n.
-void solveSymmetric(std::vector<double> M, std::vector<double>& b, int n, int columns)
-{
-  for (int j = 0; j < n; ++j)
-  {
-    double d = M[j * n + j];
-    for (int k = 0; k < j; ++k)
-      d -= M[j * n + k] * M[j * n + k];
-    if (!(d > 0.0))
-      throw std::runtime_error("SH rotation: sample directions do not determine the band");
-    M[j * n + j] = std::sqrt(d);
-    for (int i = j + 1; i < n; ++i)
-    {
-      double s = M[i * n + j];
-      for (int k = 0; k < j; ++k)
-        s -= M[i * n + k] * M[j * n + k];
-      M[i * n + j] = s / M[j * n + j];
-    }
-  }
-  for (int c = 0; c < columns; ++c)
-  {
-    for (int i = 0; i < n; ++i) // L y = b
-    {
-      double s = b[i * columns + c];
-      for (int k = 0; k < i; ++k)
-        s -= M[i * n + k] * b[k * columns + c];
-      b[i * columns + c] = s / M[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) // L^T x = y
-    {
-      double s = b[i * columns + c];
-      for (int k = i + 1; k < n; ++k)
-        s -= M[k * n + i] * b[k * columns + c];
-      b[i * columns + c] = s / M[i * n + i];
-    }
-  }
-}
-} // namespace
-
 SHRotation::SHRotation(int order, const glm::dmat3& rotation)
   : Order(order)
 {
@@ -83,21 +44,16 @@ SHRotation::SHRotation(int order, const glm::dmat3& rotation)
   for (int l = 0; l <= order; l += 2)
   {
     const int n = 2 * l + 1, first = shIndex(l, -l);
-    // Normal equations: (A^T A) X = A^T B with A = Y_l(w_s), B = Y_l(R^T w_s).
-    std::vector<double> normal(std::size_t(n) * n, 0.0), rhs(std::size_t(n) * n, 0.0);
+    // Least squares A X = B with A = Y_l(w_s), B = Y_l(R^T w_s): column j of X holds the
+    // coefficients of the turned Y_{l, first + j}.
+    std::vector<double> a(std::size_t(samples) * n), b(std::size_t(samples) * n);
     for (int s = 0; s < samples; ++s)
-    {
-      const double* a = plain.data() + std::size_t(s) * count + first;
-      const double* b = turned.data() + std::size_t(s) * count + first;
       for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j)
-        {
-          normal[i * n + j] += a[i] * a[j];
-          rhs[i * n + j] += a[i] * b[j];
-        }
-    }
-    // Column j of X holds the coefficients of the turned Y_{l, first + j}.
-    solveSymmetric(normal, rhs, n, n);
+      {
+        a[std::size_t(s) * n + i] = plain[std::size_t(s) * count + first + i];
+        b[std::size_t(s) * n + i] = turned[std::size_t(s) * count + first + i];
+      }
+    const std::vector<double> rhs = detail::leastSquares(a, b, samples, n, n);
     Blocks.insert(Blocks.end(), rhs.begin(), rhs.end());
   }
 }

@@ -1,0 +1,187 @@
+#include "sightline/SymmetricTensor.h"
+
+#include "sightline/SphericalHarmonics.h"
+
+#include "LinearSolve.h"
+
+#include <glm/gtc/constants.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sightline
+{
+namespace
+{
+void checkTensorOrder(int order, bool even)
+{
+  if (order < 0 || order > kMaxTensorOrder || (even && order % 2 != 0))
+    throw std::invalid_argument("symmetric tensor order " + std::to_string(order) + " is not " +
+      (even ? "an even number" : "a number") + " in [0, " + std::to_string(kMaxTensorOrder) + "]");
+}
+
+double factorial(int n)
+{
+  double f = 1.0;
+  for (int i = 2; i <= n; ++i)
+    f *= i;
+  return f;
+}
+
+/// All monomials x^a y^b z^c of one direction, in the unique-component order.
+void monomials(int order, double x, double y, double z, double* out)
+{
+  int index = 0;
+  for (int a = order; a >= 0; --a)
+    for (int b = order - a; b >= 0; --b)
+    {
+      const int c = order - a - b;
+      out[index++] = std::pow(x, a) * std::pow(y, b) * std::pow(z, c);
+    }
+}
+} // namespace
+
+std::array<int, 3> symmetricTensorExponents(int order, int index)
+{
+  checkTensorOrder(order, false);
+  if (index < 0 || index >= symmetricTensorComponentCount(order))
+    throw std::invalid_argument("symmetric tensor component " + std::to_string(index) +
+      " does not exist at order " + std::to_string(order));
+  for (int a = order; a >= 0; --a)
+  {
+    const int inThisA = order - a + 1;
+    if (index < inThisA)
+      return { a, order - a - index, index };
+    index -= inThisA;
+  }
+  return { 0, 0, order }; // not reached
+}
+
+double symmetricTensorMultiplicity(int a, int b, int c)
+{
+  return factorial(a + b + c) / (factorial(a) * factorial(b) * factorial(c));
+}
+
+double evaluateSymmetricTensor(int order, const double* components, double x, double y, double z)
+{
+  checkTensorOrder(order, false);
+  double sum = 0.0;
+  int index = 0;
+  for (int a = order; a >= 0; --a)
+    for (int b = order - a; b >= 0; --b)
+    {
+      const int c = order - a - b;
+      sum += symmetricTensorMultiplicity(a, b, c) * components[index++] * std::pow(x, a) *
+        std::pow(y, b) * std::pow(z, c);
+    }
+  return sum;
+}
+
+std::vector<double> symmetricTensorFromFull(int order, const double* full, double tolerance)
+{
+  checkTensorOrder(order, false);
+  std::size_t size = 1;
+  for (int i = 0; i < order; ++i)
+    size *= 3;
+  double largest = 0.0;
+  for (std::size_t i = 0; i < size; ++i)
+    largest = std::max(largest, std::abs(full[i]));
+  // Each full entry's exponents (how many of its indices are 0, 1, 2) name its unique component.
+  std::vector<double> unique(symmetricTensorComponentCount(order), 0.0);
+  std::vector<bool> seen(unique.size(), false);
+  for (std::size_t i = 0; i < size; ++i)
+  {
+    int count[3] = { 0, 0, 0 };
+    for (std::size_t rest = i, k = 0; k < std::size_t(order); ++k, rest /= 3)
+      ++count[rest % 3];
+    const int a = count[0], b = count[1];
+    // Position of (a, b, c) in the unique order: the groups of larger a first, then b descending.
+    int index = 0;
+    for (int larger = order; larger > a; --larger)
+      index += order - larger + 1;
+    index += order - a - b;
+    if (!seen[index])
+    {
+      unique[index] = full[i];
+      seen[index] = true;
+    }
+    else if (std::abs(full[i] - unique[index]) > tolerance * largest)
+      throw std::invalid_argument("the tensor is not symmetric: entry " + std::to_string(i) +
+        " differs from an entry that permutes its indices by " +
+        std::to_string(std::abs(full[i] - unique[index])));
+  }
+  return unique;
+}
+
+TensorToSH::TensorToSH(int order)
+  : Order(order)
+{
+  checkTensorOrder(order, true);
+  // Both bases span the same space on the sphere; least squares over more directions than
+  // unknowns recovers the exact change of basis (to rounding), in either direction.
+  const int count = symmetricTensorComponentCount(order);
+  const int samples = 4 * count + 64;
+  const double golden = glm::pi<double>() * (3.0 - std::sqrt(5.0));
+  std::vector<double> tensor(std::size_t(samples) * count), sh(std::size_t(samples) * count);
+  for (int s = 0; s < samples; ++s)
+  {
+    const double z = 1.0 - (2.0 * s + 1.0) / samples;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double x = r * std::cos(golden * s), y = r * std::sin(golden * s);
+    double* t = tensor.data() + std::size_t(s) * count;
+    monomials(order, x, y, z, t);
+    for (int i = 0; i < count; ++i)
+    {
+      const std::array<int, 3> e = symmetricTensorExponents(order, i);
+      t[i] *= symmetricTensorMultiplicity(e[0], e[1], e[2]);
+    }
+    evaluateSH<double>(order, x, y, z, sh.data() + std::size_t(s) * count);
+  }
+  // sh-coefficients X with Y X = M (M: the tensor's monomial columns), and the reverse.
+  const std::vector<double> forwardT = detail::leastSquares(sh, tensor, samples, count, count);
+  // The monomial columns differ in scale by the multiplicities (up to 34650 at order 12):
+  // equilibrate them before the normal equations, which square the condition number.
+  std::vector<double> scale(count, 0.0);
+  for (int s = 0; s < samples; ++s)
+    for (int i = 0; i < count; ++i)
+      scale[i] += tensor[std::size_t(s) * count + i] * tensor[std::size_t(s) * count + i];
+  for (double& v : scale)
+    v = 1.0 / std::sqrt(v);
+  for (int s = 0; s < samples; ++s)
+    for (int i = 0; i < count; ++i)
+      tensor[std::size_t(s) * count + i] *= scale[i];
+  std::vector<double> backwardT = detail::leastSquares(tensor, sh, samples, count, count);
+  for (int i = 0; i < count; ++i)
+    for (int j = 0; j < count; ++j)
+      backwardT[std::size_t(i) * count + j] *= scale[i];
+  Forward = forwardT;             // row j (SH coefficient) x column i (tensor component)
+  Backward = std::move(backwardT); // row i (tensor component) x column j (SH coefficient)
+}
+
+void TensorToSH::apply(const double* tensor, double* sh) const
+{
+  // T(w) = sum_i t_i m_i(w) and m_i = sum_j Forward[j][i] Y_j: sh_j = sum_i Forward[j][i] t_i.
+  const int count = symmetricTensorComponentCount(Order);
+  for (int j = 0; j < count; ++j)
+  {
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i)
+      sum += Forward[std::size_t(j) * count + i] * tensor[i];
+    sh[j] = sum;
+  }
+}
+
+void TensorToSH::inverse(const double* sh, double* tensor) const
+{
+  const int count = symmetricTensorComponentCount(Order);
+  for (int i = 0; i < count; ++i)
+  {
+    double sum = 0.0;
+    for (int j = 0; j < count; ++j)
+      sum += Backward[std::size_t(i) * count + j] * sh[j];
+    tensor[i] = sum;
+  }
+}
+} // namespace sightline

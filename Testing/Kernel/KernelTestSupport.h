@@ -11,11 +11,21 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 
 namespace sightline_test
 {
+/// A value with 3 significant digits, for test output.
+inline std::string number(long double x)
+{
+  std::ostringstream out;
+  out.precision(3);
+  out << double(x);
+  return out.str();
+}
+
 using sightline::dvec3;
 
 /// Row-major 4x4 matrix: m[row][column], acting on column vectors.

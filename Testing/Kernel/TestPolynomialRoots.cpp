@@ -18,6 +18,7 @@
 // Tolerances: a found root may differ from the reference by
 //   tolerance + 16 eta(r) / |p'(r)|,
 // the requested tolerance plus the first-order effect of evaluation rounding near the root.
+#include "KernelTestSupport.h"
 #include "sightline/PolynomialRoots.h"
 
 #include <gtest/gtest.h>
@@ -35,6 +36,7 @@
 
 namespace
 {
+using sightline_test::number;
 using sightline::polynomialRoots;
 
 constexpr int kMaxDegree = 26;
@@ -406,14 +408,6 @@ RandomRootStats<T> checkRandomPolynomials(int maxDegree, int casesPerDegree, T t
           ++stats.failures;
       }
   return stats;
-}
-
-std::string number(long double x)
-{
-  std::ostringstream out;
-  out.precision(3);
-  out << double(x);
-  return out.str();
 }
 
 template <class T>

@@ -17,6 +17,7 @@
 //
 // Counts of misses / spurious roots per order are printed ("[ glyphs   ]" lines) and recorded
 // as test properties.
+#include "KernelTestSupport.h"
 #include "SHGlyphTestSupport.h"
 
 #include "sightline/SHGlyph.h"
@@ -37,6 +38,7 @@
 
 namespace
 {
+using sightline_test::number;
 using namespace sightline_test::glyph;
 using sightline::dvec3;
 using sightline::intersectSHGlyph;
@@ -71,14 +73,6 @@ template <class T>
 const char* typeName()
 {
   return sizeof(T) == sizeof(double) ? "double" : "float";
-}
-
-std::string number(long double x)
-{
-  std::ostringstream out;
-  out.precision(3);
-  out << double(x);
-  return out.str();
 }
 
 /// One ray-glyph query: the inputs rounded to T, the kernel's answer and the reference for

@@ -118,10 +118,12 @@ std::vector<float> toFloat(const std::vector<double>& values)
   return std::vector<float>(values.begin(), values.end());
 }
 
-/// Back to double, e.g. to get float-representable coefficients that convert exactly.
-std::vector<double> toDouble(const std::vector<float>& values)
+/// The values rounded to float and kept in double: coefficients that the glyph set's float
+/// input holds exactly, so conversions by +-1 compare bit for bit.
+std::vector<double> floatRepresentable(const std::vector<double>& values)
 {
-  return std::vector<double>(values.begin(), values.end());
+  const std::vector<float> rounded = toFloat(values);
+  return std::vector<double>(rounded.begin(), rounded.end());
 }
 
 dvec3 randomUnit(std::mt19937& random)
@@ -510,7 +512,7 @@ TEST(SHGlyphSetConventions, EveryConventionGivesTheSameGlyph)
   const int order = 8;
   std::mt19937 random(20230);
   // Float-representable canonical coefficients, so that conversions by +-1 are exact.
-  const std::vector<double> canonical = toDouble(toFloat(randomGlyph(order, random, 3.0)));
+  const std::vector<double> canonical = floatRepresentable(randomGlyph(order, random, 3.0));
 
   // My basis definitions agree with the kernel's canonical basis (otherwise this test would
   // compare against the wrong functions).

@@ -2,6 +2,8 @@
 
 #include "sightline/PolynomialRoots.h"
 
+#include "LegendreTables.h"
+
 #include <array>
 #include <cmath>
 #include <limits>
@@ -105,8 +107,8 @@ const RayTables<T>& rayTables(int order)
   return *all[order / 2];
 }
 
-/// Recurrence constants of the canonical basis, the same formulas (in double) as the
-/// LegendreTables of SphericalHarmonics.cpp, so the batch below reproduces evaluateSHSum.
+/// The canonical basis's recurrence constants (detail::LegendreTables) in the arithmetic T of
+/// the batch below, so it reproduces evaluateSHSum.
 template <class T>
 struct BatchLegendre
 {
@@ -116,25 +118,15 @@ struct BatchLegendre
   T b[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
   BatchLegendre()
   {
-    const double pi = 3.14159265358979323846;
+    const detail::LegendreTables& t = detail::legendreTables();
     for (int m = 0; m <= kMaxGlyphOrder; ++m)
     {
-      double ratio = 1.0;
-      for (int i = 1; i <= m; ++i)
-        ratio *= double(2 * i - 1) / double(2 * i);
-      start[m] = T(std::sqrt((2 * m + 1) / (4.0 * pi) * ratio) * (m == 0 ? 1.0 : std::sqrt(2.0)));
+      start[m] = T(t.start[m]);
       first[m] = T(std::sqrt(double(2 * m + 3)));
       for (int l = 0; l <= kMaxGlyphOrder; ++l)
       {
-        a[l][m] = b[l][m] = T(0);
-        if (l > m)
-        {
-          const double lm = double(l - m) * double(l + m);
-          a[l][m] = T(std::sqrt(double(2 * l + 1) * double(2 * l - 1) / lm));
-          if (l > m + 1)
-            b[l][m] = T(std::sqrt(
-              double(2 * l + 1) * double(l + m - 1) * double(l - m - 1) / (double(2 * l - 3) * lm)));
-        }
+        a[l][m] = T(t.a[l][m]);
+        b[l][m] = T(t.b[l][m]);
       }
     }
   }

@@ -3,6 +3,7 @@
 #include "sightline/PolynomialRoots.h"
 
 #include "LegendreTables.h"
+#include "SphereSampling.h"
 
 #include <array>
 #include <cmath>
@@ -371,13 +372,10 @@ struct FibonacciTable
     const int stride = shCoefficientCount(k);
     directions.resize(count);
     basis.resize(std::size_t(count) * stride);
-    const double golden = 4.0 * double(kPi) / (std::sqrt(5.0) + 1.0);
     for (int l = 0; l < count; ++l)
     {
-      const double z = 1.0 - (2.0 * l + 1.0) / (2.0 * count);
-      const double radius = std::sqrt(std::max(0.0, 1.0 - z * z));
-      const double phi = golden * l;
-      directions[l] = dvec3(radius * std::cos(phi), radius * std::sin(phi), z);
+      // Glyphs are point symmetric: the upper hemisphere sees every extent.
+      directions[l] = detail::fibonacciDirection(l, count, true);
       evaluateSH<double>(k, directions[l].x, directions[l].y, directions[l].z,
         basis.data() + std::size_t(l) * stride);
     }

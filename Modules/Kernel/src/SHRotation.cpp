@@ -3,8 +3,7 @@
 #include "sightline/SphericalHarmonics.h"
 
 #include "LinearSolve.h"
-
-#include <glm/gtc/constants.hpp>
+#include "SphereSampling.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -29,14 +28,11 @@ SHRotation::SHRotation(int order, const glm::dmat3& rotation)
   // Y_lm'(w); least squares over many directions gives the (exact) coefficients of that span.
   const int count = shCoefficientCount(order);
   const int samples = 4 * (order + 1) * (order + 1) + 64;
-  const double golden = glm::pi<double>() * (3.0 - std::sqrt(5.0));
   std::vector<double> plain(std::size_t(samples) * count), turned(std::size_t(samples) * count);
   const glm::dmat3 inverse = glm::transpose(rotation);
   for (int s = 0; s < samples; ++s)
   {
-    const double z = 1.0 - (2.0 * s + 1.0) / samples;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const dvec3 w(r * std::cos(golden * s), r * std::sin(golden * s), z);
+    const dvec3 w = detail::fibonacciDirection(s, samples);
     const dvec3 v = inverse * w;
     evaluateSH<double>(order, w.x, w.y, w.z, plain.data() + std::size_t(s) * count);
     evaluateSH<double>(order, v.x, v.y, v.z, turned.data() + std::size_t(s) * count);

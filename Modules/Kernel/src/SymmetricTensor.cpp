@@ -3,8 +3,7 @@
 #include "sightline/SphericalHarmonics.h"
 
 #include "LinearSolve.h"
-
-#include <glm/gtc/constants.hpp>
+#include "SphereSampling.h"
 
 #include <algorithm>
 #include <cmath>
@@ -123,13 +122,11 @@ TensorToSH::TensorToSH(int order)
   // unknowns recovers the exact change of basis (to rounding), in either direction.
   const int count = symmetricTensorComponentCount(order);
   const int samples = 4 * count + 64;
-  const double golden = glm::pi<double>() * (3.0 - std::sqrt(5.0));
   std::vector<double> tensor(std::size_t(samples) * count), sh(std::size_t(samples) * count);
   for (int s = 0; s < samples; ++s)
   {
-    const double z = 1.0 - (2.0 * s + 1.0) / samples;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double x = r * std::cos(golden * s), y = r * std::sin(golden * s);
+    const dvec3 w = detail::fibonacciDirection(s, samples);
+    const double x = w.x, y = w.y, z = w.z;
     double* t = tensor.data() + std::size_t(s) * count;
     monomials(order, x, y, z, t);
     for (int i = 0; i < count; ++i)

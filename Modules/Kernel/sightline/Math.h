@@ -13,6 +13,7 @@ using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 using dvec3 = glm::dvec3;
 using dvec4 = glm::dvec4;
+using dmat3 = glm::dmat3;
 using dmat4 = glm::dmat4;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();

@@ -7,6 +7,7 @@
 
 #include "sightline/Geometry.h"
 #include "sightline/SHGlyph.h"
+#include "sightline/TensorGlyph.h"
 
 #include <cstdint>
 #include <vector>
@@ -18,6 +19,12 @@ enum class SHIntersectionMethod
 {
   RootFinding, ///< exact: Algorithm 1 of Peters et al. 2023
   RayMarching, ///< baseline: fixed steps plus bisection (Peeters et al. 2009, van Almsick 2011)
+  /// baseline: the tensor glyph paper's marching on its Cartesian function (Hlawitschka et al.
+  /// Sec. 4; see TensorGlyph.h), orders <= 12
+  TensorMarching,
+  /// baseline: rejection and bisection with interval or reduced affine arithmetic (Hlawitschka
+  /// et al. Sec. 5, after Knoll et al.), orders <= 12
+  IntervalSubdivision,
 };
 
 /// Which segment of the ray the marching baseline samples.
@@ -44,6 +51,9 @@ enum class SHColoring
   Material,  ///< the material's colour
   Direction, ///< |p / |p|| as RGB, the usual colouring of fibre directions
   PerGlyph,  ///< the colours given to the constructor (e.g. a scalar through a colormap)
+  /// colormap(radius): the hit point's distance from the centre in input units (world distance
+  /// divided by the glyph's scale), the tensor glyph paper's "colour coding by scalar value"
+  Radius,
 };
 
 struct SHGlyphOptions
@@ -59,6 +69,9 @@ struct SHGlyphOptions
   vec3 negativeLobeColor{ -1.0f };
   /// Root tolerance relative to the glyph size; 0 picks the default of the arithmetic.
   double tolerance = 0.0;
+  /// Coloring::Radius: colours spread evenly over [radiusRange.x, radiusRange.y] (clamped).
+  std::vector<vec3> colormap;
+  vec2 radiusRange{ 0.0f, 1.0f };
 
   SHIntersectionMethod method = SHIntersectionMethod::RootFinding;
   int marchingSteps = 200;
@@ -66,6 +79,8 @@ struct SHGlyphOptions
   SHMarchingBound marchingBound = SHMarchingBound::Cylinder;
   /// Baselines: use the near-exact boxes in the BVH (true) or the boxes of the bounding sphere.
   bool marchingUsesTightBoxes = false;
+  TensorMarchingOptions tensorMarching;
+  IntervalSubdivisionOptions subdivision;
 };
 
 /// shGlyphMaxRadius for coefficients given in `convention`: the radius of the glyph's longest
@@ -136,15 +151,19 @@ private:
     std::uint8_t order = 0;
     bool useFloat = false;
     float boundingRadius = 0.0f; ///< for the marching baselines
+    float scale = 1.0f;          ///< world units per input unit (radius colouring)
+    float maxRadius = 0.0f;      ///< longest lobe, padded: the tensor methods' bounding sphere
   };
 
   int exactIntersections(const Glyph& glyph, const Ray& ray, double* t, bool firstOnly) const;
   int marchingIntersection(const Glyph& glyph, const Ray& ray, double& t) const;
+  int tensorMethodIntersection(unsigned primitive, const Ray& ray, double& t) const;
 
   SHGlyphOptions Options;
   std::vector<Glyph> Glyphs;
   std::vector<double> DoubleCoefficients;
   std::vector<float> FloatCoefficients;
+  std::vector<CartesianGlyphFunction> Cartesian; ///< per glyph, for the tensor methods only
   std::vector<std::uint32_t> Colors;
   std::vector<std::uint32_t> SourceIndex;
   Box3 AllBounds;

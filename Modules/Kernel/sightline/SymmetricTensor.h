@@ -38,6 +38,16 @@ double evaluateSymmetricTensor(int order, const double* components, double x, do
 /// is not symmetric to within `tolerance` times its largest entry.
 std::vector<double> symmetricTensorFromFull(int order, const double* full, double tolerance = 1e-6);
 
+/// The totally symmetric part of any full tensor of 3^n values (the mean over index
+/// permutations, as unique components). T(w) = full_{i1..in} w_i1 ... w_in depends on this part
+/// only, so it is the glyph of a tensor with fewer symmetries, e.g. a stiffness tensor C_ijkl
+/// (minor and major symmetry only: its glyph is the longitudinal modulus C_ijkl w_i w_j w_k w_l).
+std::vector<double> symmetricPartFromFull(int order, const double* full);
+
+/// The full 3x3x3x3 tensor (81 values, index i + 3 j + 9 k + 27 l) of a 6x6 Voigt matrix
+/// (row-major, pairs ordered 11, 22, 33, 23, 13, 12), the way elastic constants are published.
+std::vector<double> stiffnessFromVoigt(const double* voigt);
+
 /// The exact linear map between the unique components of an even-order tensor and the
 /// canonical SH coefficients of the same function on the sphere (bands 0..n), both ways.
 class TensorToSH

@@ -1,5 +1,7 @@
 #include "sightline/SHGlyphSet.h"
 
+#include "sightline/SymmetricTensor.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -53,6 +55,22 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
   if (options.method == SHIntersectionMethod::RayMarching &&
     (options.marchingSteps < 1 || options.bisectionSteps < 0))
     throw std::invalid_argument("ray marching needs at least one step");
+  const bool tensorMethod = options.method == SHIntersectionMethod::TensorMarching ||
+    options.method == SHIntersectionMethod::IntervalSubdivision;
+  if (tensorMethod && order > kMaxTensorOrder)
+    throw std::invalid_argument("the tensor glyph methods (marching, interval subdivision) support "
+      "orders up to " + std::to_string(kMaxTensorOrder) + ", not " + std::to_string(order));
+  if (options.method == SHIntersectionMethod::TensorMarching &&
+    !(options.tensorMarching.stepSize > 0.0 && options.tensorMarching.centreStepFactor > 0.0 &&
+      options.tensorMarching.centreStepFactor <= 1.0 && options.tensorMarching.bisectionSteps >= 0))
+    throw std::invalid_argument("tensor marching needs a positive step size, a centre step factor "
+      "in (0, 1] and no negative bisection count");
+  if (options.method == SHIntersectionMethod::IntervalSubdivision &&
+    !(options.subdivision.tolerance > 0.0 && options.subdivision.tolerance < 1.0))
+    throw std::invalid_argument("interval subdivision needs a tolerance in (0, 1)");
+  if (options.coloring == SHColoring::Radius &&
+    (options.colormap.empty() || !(options.radiusRange.y > options.radiusRange.x)))
+    throw std::invalid_argument("radius colouring needs a colormap and a radius range lo < hi");
 
   const SHConversion conversion = SHConversion::toCanonical(options.convention, order);
   std::vector<double> canonical(stride);
@@ -87,6 +105,7 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
     glyph.order = std::uint8_t(options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order);
     glyph.offset = std::uint32_t(DoubleCoefficients.size());
     glyph.useFloat = options.precision == SHPrecision::Float;
+    glyph.scale = scale;
     // A cached box is only trusted when it is a box: NaN marks "not computed yet".
     if (!halfExtents.empty() && isFinite(halfExtents[i]) && halfExtents[i].x >= 0.0f)
       glyph.halfExtents = halfExtents[i];
@@ -104,15 +123,24 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
     Options.coloring = SHColoring::Material;
 
   // Boxes: the near-exact ones (Section 4.2) unless a baseline asks for its bounding sphere.
+  // The tensor methods march inside the sphere of the longest lobe (padded by 0.1 %: the lobe
+  // search is a refined sampling) in the seed's unit-ball frame.
   const bool tight = Options.method == SHIntersectionMethod::RootFinding || Options.marchingUsesTightBoxes;
+  if (tensorMethod)
+    Cartesian.resize(Glyphs.size());
   const auto start = std::chrono::steady_clock::now();
   tbb::parallel_for(std::size_t(0), Glyphs.size(), [&](std::size_t i)
     {
       Glyph& glyph = Glyphs[i];
       const double* b = DoubleCoefficients.data() + glyph.offset;
       glyph.boundingRadius = float(shGlyphBoundingRadius(glyph.order, b));
+      if (tensorMethod)
+      {
+        glyph.maxRadius = float(1.001 * shGlyphMaxRadius(glyph.order, b));
+        Cartesian[i] = CartesianGlyphFunction::fromSH(glyph.order, b, glyph.maxRadius);
+      }
       if (!tight)
-        glyph.halfExtents = vec3(glyph.boundingRadius);
+        glyph.halfExtents = vec3(tensorMethod ? glyph.maxRadius : glyph.boundingRadius);
       else if (glyph.halfExtents.x < 0.0f)
         glyph.halfExtents = vec3(shGlyphHalfExtents(glyph.order, b));
       glyph.box.lower = vec3(glyph.center - dvec3(glyph.halfExtents));
@@ -162,6 +190,15 @@ vec3 SHGlyphSet::surfaceColor(unsigned primitive, const vec3& point) const
     return unpackRGB(Colors[primitive]);
   if (Options.coloring == SHColoring::Material)
     return material.color;
+  if (Options.coloring == SHColoring::Radius)
+  {
+    const float value = float(r) / glyph.scale;
+    const float u = glm::clamp((value - Options.radiusRange.x) / (Options.radiusRange.y - Options.radiusRange.x), 0.0f, 1.0f);
+    const float position = u * float(Options.colormap.size() - 1);
+    const std::size_t index = std::min(std::size_t(position), Options.colormap.size() - 1);
+    const std::size_t next = std::min(index + 1, Options.colormap.size() - 1);
+    return glm::mix(Options.colormap[index], Options.colormap[next], position - float(index));
+  }
   return vec3(glm::abs(w));
 }
 
@@ -169,6 +206,7 @@ std::size_t SHGlyphSet::memoryBytes() const
 {
   return Glyphs.capacity() * sizeof(Glyph) + DoubleCoefficients.capacity() * sizeof(double) +
     FloatCoefficients.capacity() * sizeof(float) + Colors.capacity() * sizeof(std::uint32_t) +
+    Cartesian.size() * sizeof(CartesianGlyphFunction) +
     SourceIndex.capacity() * sizeof(std::uint32_t);
 }
 
@@ -281,6 +319,28 @@ int SHGlyphSet::marchingIntersection(const Glyph& glyph, const Ray& ray, double&
   return 0;
 }
 
+int SHGlyphSet::tensorMethodIntersection(unsigned primitive, const Ray& ray, double& tHit) const
+{
+  // The seed's frame: glyph at the origin, lengths divided by the bounding radius.
+  const Glyph& glyph = Glyphs[primitive];
+  const double R = glyph.maxRadius;
+  const dvec3 d = dvec3(ray.direction);
+  const double length = glm::length(d);
+  const dvec3 o = (dvec3(ray.origin) - glyph.center) / R;
+  const double tmin = double(ray.tnear) * length / R;
+  const double tmax = std::min(double(ray.tfar) * length, 1e300) / R;
+  double t = 0.0;
+  const bool found = Options.method == SHIntersectionMethod::TensorMarching
+    ? marchTensorGlyph(Cartesian[primitive], o, d / length, tmin, tmax, Options.tensorMarching,
+        Options.hideNegativeLobes, t)
+    : subdivideTensorGlyph(Cartesian[primitive], o, d / length, tmin, tmax, Options.subdivision,
+        Options.hideNegativeLobes, t);
+  if (!found)
+    return 0;
+  tHit = t * R / length;
+  return 1;
+}
+
 bool SHGlyphSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const
 {
   const Glyph& glyph = Glyphs[primitive];
@@ -289,6 +349,8 @@ bool SHGlyphSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) 
   int chosen = 0;
   if (Options.method == SHIntersectionMethod::RayMarching)
     count = marchingIntersection(glyph, ray, t[0]);
+  else if (Options.method != SHIntersectionMethod::RootFinding)
+    count = tensorMethodIntersection(primitive, ray, t[0]);
   else if (!Options.hideNegativeLobes)
     count = exactIntersections(glyph, ray, t, true);
   else

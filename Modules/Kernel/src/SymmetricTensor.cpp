@@ -40,6 +40,14 @@ void monomials(int order, double x, double y, double z, double* out)
       out[index++] = std::pow(x, a) * std::pow(y, b) * std::pow(z, c);
     }
 }
+/// Position of (a, b, c) in the unique order: the groups of larger a first, then b descending.
+int uniqueIndex(int order, int a, int b)
+{
+  int index = 0;
+  for (int larger = order; larger > a; --larger)
+    index += order - larger + 1;
+  return index + order - a - b;
+}
 } // namespace
 
 std::array<int, 3> symmetricTensorExponents(int order, int index)
@@ -78,6 +86,40 @@ double evaluateSymmetricTensor(int order, const double* components, double x, do
   return sum;
 }
 
+std::vector<double> symmetricPartFromFull(int order, const double* full)
+{
+  checkTensorOrder(order, false);
+  std::size_t size = 1;
+  for (int i = 0; i < order; ++i)
+    size *= 3;
+  std::vector<double> unique(symmetricTensorComponentCount(order), 0.0);
+  for (std::size_t i = 0; i < size; ++i)
+  {
+    int count[3] = { 0, 0, 0 };
+    for (std::size_t rest = i, k = 0; k < std::size_t(order); ++k, rest /= 3)
+      ++count[rest % 3];
+    unique[uniqueIndex(order, count[0], count[1])] += full[i];
+  }
+  for (std::size_t index = 0; index < unique.size(); ++index)
+  {
+    const std::array<int, 3> e = symmetricTensorExponents(order, int(index));
+    unique[index] /= symmetricTensorMultiplicity(e[0], e[1], e[2]);
+  }
+  return unique;
+}
+
+std::vector<double> stiffnessFromVoigt(const double* voigt)
+{
+  static const int pair[3][3] = { { 0, 5, 4 }, { 5, 1, 3 }, { 4, 3, 2 } };
+  std::vector<double> full(81);
+  for (int l = 0; l < 3; ++l)
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+          full[i + 3 * j + 9 * k + 27 * l] = voigt[6 * pair[i][j] + pair[k][l]];
+  return full;
+}
+
 std::vector<double> symmetricTensorFromFull(int order, const double* full, double tolerance)
 {
   checkTensorOrder(order, false);
@@ -95,12 +137,7 @@ std::vector<double> symmetricTensorFromFull(int order, const double* full, doubl
     int count[3] = { 0, 0, 0 };
     for (std::size_t rest = i, k = 0; k < std::size_t(order); ++k, rest /= 3)
       ++count[rest % 3];
-    const int a = count[0], b = count[1];
-    // Position of (a, b, c) in the unique order: the groups of larger a first, then b descending.
-    int index = 0;
-    for (int larger = order; larger > a; --larger)
-      index += order - larger + 1;
-    index += order - a - b;
+    const int index = uniqueIndex(order, count[0], count[1]);
     if (!seen[index])
     {
       unique[index] = full[i];

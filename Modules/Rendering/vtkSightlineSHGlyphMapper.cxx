@@ -9,6 +9,7 @@
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkScalarsToColors.h"
 #include "vtkUnsignedCharArray.h"
 
 #include "sightline/EmbreeScene.h"
@@ -251,6 +252,8 @@ const char* vtkSightlineSHGlyphMapper::GetColoringAsString()
       return "Scalars";
     case COLOR_SOLID:
       return "Solid";
+    case COLOR_BY_RADIUS:
+      return "Radius";
     default:
       return "Direction";
   }
@@ -350,25 +353,12 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
 
   // The coefficient array and the order its component count stands for.
   vtkPointData* pointData = input->GetPointData();
-  const bool named = this->CoefficientArrayName && *this->CoefficientArrayName;
-  vtkDataArray* coefficients =
-    named ? pointData->GetArray(this->CoefficientArrayName) : pointData->GetScalars();
-  const std::string arrayLabel = named
-    ? "coefficient array '" + std::string(this->CoefficientArrayName) + "'"
-    : std::string("active point scalars (the coefficient array)");
+  int order = -1;
+  bool canonicalInput = false;
+  std::string arrayLabel;
+  vtkDataArray* coefficients = this->SelectCoefficients(input, order, canonicalInput, arrayLabel);
   if (!coefficients)
   {
-    vtkErrorMacro(<< "The input has no " << arrayLabel
-                  << "; set CoefficientArrayName to the point-data array of SH coefficients.");
-    return nullptr;
-  }
-  const int components = coefficients->GetNumberOfComponents();
-  int order = sightline::shOrderFromCount(static_cast<std::size_t>(components));
-  if (order < 0)
-  {
-    vtkErrorMacro(<< "The " << arrayLabel << " has " << components
-                  << " components, which is no SH order: expected one of " << CountsOfOrders()
-                  << ". (A 4-D NIfTI needs vtkNIFTIImageReader::TimeAsVectorOn().)");
     return nullptr;
   }
   if (this->MaximumOrder >= 0)
@@ -382,10 +372,11 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
     order = std::min(order, this->MaximumOrder - this->MaximumOrder % 2);
   }
   const int stride = sightline::shCoefficientCount(order);
-  const sightline::SHConvention convention{ this->Basis == TOURNIER07
-      ? sightline::SHBasis::Tournier07
-      : sightline::SHBasis::Descoteaux07,
-    this->LegacyBasis };
+  const sightline::SHConvention convention = canonicalInput
+    ? sightline::SHConvention{ sightline::SHBasis::Canonical, false }
+    : sightline::SHConvention{ this->Basis == TOURNIER07 ? sightline::SHBasis::Tournier07
+                                                         : sightline::SHBasis::Descoteaux07,
+        this->LegacyBasis };
 
   // Directions given in other axes than the world's are turned into world axes.
   glm::dmat3 rotation(1.0);
@@ -545,11 +536,13 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   }
   const int normalization = this->Normalization;
   std::vector<vtkIdType> needAmplitude;
-  if (normalization == NORMALIZE_MAX_AMPLITUDE)
+  const bool radiusColors = this->Coloring == COLOR_BY_RADIUS;
+  const bool automaticRadiusRange = !(this->RadiusRange[0] < this->RadiusRange[1]);
+  if (normalization == NORMALIZE_MAX_AMPLITUDE || (radiusColors && automaticRadiusRange))
   {
     needAmplitude = ids;
   }
-  else if (normalization == NORMALIZE_GLOBAL && in.Glyphs.GlobalMaxAmplitude < 0.0)
+  if (normalization == NORMALIZE_GLOBAL && in.Glyphs.GlobalMaxAmplitude < 0.0)
   {
     // Every point of the input counts, so that all slices share one scale.
     needAmplitude.resize(points);
@@ -744,6 +737,46 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   options.convention = glyphConvention;
   options.coloring = this->Coloring == COLOR_SOLID ? sightline::SHColoring::Material
                                                    : sightline::SHColoring::Direction;
+  if (radiusColors)
+  {
+    // The paper's colour coding by scalar value: the lookup table over the radius range.
+    double range[2] = { this->RadiusRange[0], this->RadiusRange[1] };
+    if (automaticRadiusRange)
+    {
+      range[0] = 0.0;
+      range[1] = 0.0;
+      for (vtkIdType id : drawn)
+      {
+        range[1] = std::max(range[1], double(in.Glyphs.MaxAmplitude[id]));
+      }
+      if (!(range[1] > 0.0))
+      {
+        range[1] = 1.0;
+      }
+    }
+    std::copy(range, range + 2, this->LastRadiusRange);
+    options.coloring = sightline::SHColoring::Radius;
+    options.radiusRange = sightline::vec2(range[0], range[1]);
+    options.colormap.resize(256);
+    if (this->LookupTable)
+    {
+      const double* table = this->LookupTable->GetRange();
+      for (int k = 0; k < 256; ++k)
+      {
+        double rgb[3];
+        this->LookupTable->GetColor(table[0] + (table[1] - table[0]) * k / 255.0, rgb);
+        options.colormap[k] = sightline::vec3(rgb[0], rgb[1], rgb[2]);
+      }
+    }
+    else
+    {
+      for (int k = 0; k < 256; ++k) // black - red - yellow
+      {
+        const float u = k / 255.0f;
+        options.colormap[k] = sightline::vec3(std::min(1.0f, 2.0f * u), std::max(0.0f, 2.0f * u - 1.0f), 0.0f);
+      }
+    }
+  }
   options.hideNegativeLobes = this->NegativeLobes == NEGATIVE_LOBES_HIDE;
   if (this->NegativeLobes == NEGATIVE_LOBES_COLOR)
   {
@@ -777,14 +810,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
     }
   }
 
+  std::shared_ptr<sightline::Geometry> geometry;
   try
   {
-    in.GlyphSet = std::make_shared<sightline::SHGlyphSet>(
-      centers, drawnValues, order, options, scales, colors, halfExtents);
-    for (const std::string& reason : in.GlyphSet->report().reasons)
-    {
-      vtkWarningMacro(<< reason << ".");
-    }
+    geometry = this->CreateGlyphGeometry(centers, drawnValues, order, options, scales, colors, halfExtents);
 
     // Uncertainty glyphs: the same centres and scale factors, drawn as a volume.
     if (this->UncertaintyArrayName && *this->UncertaintyArrayName)
@@ -838,11 +867,56 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   }
   catch (const std::exception& e)
   {
-    vtkErrorMacro(<< "Could not build the SH glyphs: " << e.what());
+    vtkErrorMacro(<< "Could not build the glyphs: " << e.what());
     in.GlyphSet.reset();
     in.UncertaintySet.reset();
     in.UncertaintyScene.reset();
     return nullptr;
+  }
+  return geometry;
+}
+
+//------------------------------------------------------------------------------
+vtkDataArray* vtkSightlineSHGlyphMapper::SelectCoefficients(
+  vtkDataSet* input, int& order, bool& canonical, std::string& label)
+{
+  canonical = false;
+  vtkPointData* pointData = input->GetPointData();
+  const bool named = this->CoefficientArrayName && *this->CoefficientArrayName;
+  vtkDataArray* coefficients =
+    named ? pointData->GetArray(this->CoefficientArrayName) : pointData->GetScalars();
+  label = named ? "coefficient array '" + std::string(this->CoefficientArrayName) + "'"
+                : std::string("active point scalars (the coefficient array)");
+  if (!coefficients)
+  {
+    vtkErrorMacro(<< "The input has no " << label
+                  << "; set CoefficientArrayName to the point-data array of SH coefficients.");
+    return nullptr;
+  }
+  const int components = coefficients->GetNumberOfComponents();
+  order = sightline::shOrderFromCount(static_cast<std::size_t>(components));
+  if (order < 0)
+  {
+    vtkErrorMacro(<< "The " << label << " has " << components
+                  << " components, which is no SH order: expected one of " << CountsOfOrders()
+                  << ". (A 4-D NIfTI needs vtkNIFTIImageReader::TimeAsVectorOn().)");
+    return nullptr;
+  }
+  return coefficients;
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::CreateGlyphGeometry(
+  const std::vector<sightline::vec3>& centers, const std::vector<float>& values, int order,
+  sightline::SHGlyphOptions& options, const std::vector<float>& scales,
+  const std::vector<std::uint32_t>& colors, const std::vector<sightline::vec3>& halfExtents)
+{
+  vtkGlyphInternals& in = *this->GlyphInternals;
+  in.GlyphSet = std::make_shared<sightline::SHGlyphSet>(
+    centers, values, order, options, scales, colors, halfExtents);
+  for (const std::string& reason : in.GlyphSet->report().reasons)
+  {
+    vtkWarningMacro(<< reason << ".");
   }
   return in.GlyphSet;
 }
@@ -898,6 +972,8 @@ void vtkSightlineSHGlyphMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaskArrayName: " << (this->MaskArrayName ? this->MaskArrayName : "(none)")
      << "\n";
   os << indent << "Coloring: " << this->GetColoringAsString() << "\n";
+  os << indent << "RadiusRange: " << this->RadiusRange[0] << " " << this->RadiusRange[1]
+     << (this->RadiusRange[0] < this->RadiusRange[1] ? "" : " (automatic)") << "\n";
   os << indent << "NegativeLobes: " << this->GetNegativeLobesAsString() << "\n";
   os << indent << "NegativeLobeColor: " << this->NegativeLobeColor[0] << " "
      << this->NegativeLobeColor[1] << " " << this->NegativeLobeColor[2] << "\n";

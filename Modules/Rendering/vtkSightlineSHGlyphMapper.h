@@ -59,6 +59,18 @@
 #include "SightlineRenderingModule.h" // for export macro
 #include "vtkSightlineMapper.h"
 
+#ifndef __VTK_WRAP__
+#include <glm/vec3.hpp> // for sightline::vec3
+#include <cstdint>      // for std::uint32_t
+#include <string>       // for std::string
+#include <vector>       // for std::vector
+namespace sightline
+{
+using vec3 = glm::vec3;
+struct SHGlyphOptions;
+}
+#endif
+
 class vtkMatrix4x4;
 
 class SIGHTLINERENDERING_EXPORT vtkSightlineSHGlyphMapper : public vtkSightlineMapper
@@ -230,19 +242,33 @@ public:
   {
     COLOR_BY_DIRECTION = 0, ///< |p / |p|| as RGB
     COLOR_BY_SCALARS,       ///< vtkMapper scalar colouring through the lookup table
-    COLOR_SOLID             ///< the actor's vtkProperty colour
+    COLOR_SOLID,            ///< the actor's vtkProperty colour
+    COLOR_BY_RADIUS         ///< the lookup table at |p|, the glyph radius at each surface point
   };
 
   ///@{
   /**
    * How glyphs are coloured. Default COLOR_BY_DIRECTION.
    */
-  vtkSetClampMacro(Coloring, int, COLOR_BY_DIRECTION, COLOR_SOLID);
+  vtkSetClampMacro(Coloring, int, COLOR_BY_DIRECTION, COLOR_BY_RADIUS);
   vtkGetMacro(Coloring, int);
   void SetColoringToDirection() { this->SetColoring(COLOR_BY_DIRECTION); }
   void SetColoringToScalars() { this->SetColoring(COLOR_BY_SCALARS); }
   void SetColoringToSolid() { this->SetColoring(COLOR_SOLID); }
+  void SetColoringToRadius() { this->SetColoring(COLOR_BY_RADIUS); }
   const char* GetColoringAsString();
+
+  /**
+   * COLOR_BY_RADIUS (the tensor-glyph paper's colour coding by scalar value): each surface
+   * point gets the lookup table's colour of its glyph radius |F(w)| in input units (e.g. GPa
+   * for a stiffness tensor), before normalisation and scaling. The table's colours are spread
+   * over RadiusRange; when it is empty (lo >= hi, the default [0, -1]) over [0, largest radius
+   * of the drawn glyphs]. Without a lookup table set, black-red-yellow as in the paper.
+   */
+  vtkSetVector2Macro(RadiusRange, double);
+  vtkGetVector2Macro(RadiusRange, double);
+  /** The range the last render used for COLOR_BY_RADIUS. */
+  vtkGetVector2Macro(LastRadiusRange, double);
   ///@}
 
   enum NegativeLobeModes
@@ -311,6 +337,25 @@ protected:
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
   void ConfigureRender(sightline::RenderOptions& options) override;
+
+  /**
+   * The point array whose tuples are the glyph functions, its SH order and whether it holds
+   * canonical (orthonormal) SH coefficients instead of Basis. Reports the problem and returns
+   * null when there is none. Subclasses that convert other inputs (tensors) override it.
+   */
+  virtual vtkDataArray* SelectCoefficients(
+    vtkDataSet* input, int& order, bool& canonical, std::string& label);
+
+  /**
+   * Creates the glyph geometry from what BuildGeometry gathered: centres in world
+   * coordinates, `values` (shCoefficientCount(order) per glyph in options.convention), scales,
+   * colours and cached boxes (see sightline::SHGlyphSet). Subclasses may draw other shapes
+   * from the same glyphs.
+   */
+  virtual std::shared_ptr<sightline::Geometry> CreateGlyphGeometry(
+    const std::vector<sightline::vec3>& centers, const std::vector<float>& values, int order,
+    sightline::SHGlyphOptions& options, const std::vector<float>& scales,
+    const std::vector<std::uint32_t>& colors, const std::vector<sightline::vec3>& halfExtents);
 #endif
 
   char* CoefficientArrayName = nullptr;
@@ -330,6 +375,8 @@ protected:
   int Coloring = COLOR_BY_DIRECTION;
   int NegativeLobes = NEGATIVE_LOBES_SHOW;
   double NegativeLobeColor[3] = { 0.9, 0.1, 0.1 };
+  double RadiusRange[2] = { 0.0, -1.0 };
+  double LastRadiusRange[2] = { 0.0, -1.0 };
   char* UncertaintyArrayName = nullptr;
   double UncertaintyExtinction = 2.0;
   double UncertaintyColor[3] = { 0.5, 0.5, 0.5 };

@@ -127,3 +127,68 @@ TEST(SymmetricTensor, RefusesBadInput)
   notSymmetric[1] = 1.0; // T_01 = 1 but T_10 = 0
   EXPECT_THROW(sightline::symmetricTensorFromFull(2, notSymmetric.data()), std::invalid_argument);
 }
+
+// The glyph of a full tensor that is not totally symmetric is that of its symmetric part:
+// T(w) = full_{i1..in} w_i1 ... w_in is unchanged.
+TEST(SymmetricTensor, SymmetricPartKeepsTheContraction)
+{
+  std::mt19937 rng(31);
+  std::normal_distribution<double> normal;
+  for (int order : { 2, 4, 6 })
+  {
+    std::size_t size = 1;
+    for (int i = 0; i < order; ++i)
+      size *= 3;
+    std::vector<double> full(size);
+    for (double& v : full)
+      v = normal(rng);
+    const std::vector<double> unique = sightline::symmetricPartFromFull(order, full.data());
+    for (int k = 0; k < 20; ++k)
+    {
+      const double w[3] = { normal(rng), normal(rng), normal(rng) };
+      double contraction = 0.0;
+      for (std::size_t i = 0; i < size; ++i)
+      {
+        double term = full[i];
+        for (std::size_t rest = i, j = 0; j < std::size_t(order); ++j, rest /= 3)
+          term *= w[rest % 3];
+        contraction += term;
+      }
+      EXPECT_NEAR(sightline::evaluateSymmetricTensor(order, unique.data(), w[0], w[1], w[2]),
+        contraction, 1e-10 * (1.0 + std::abs(contraction)));
+    }
+  }
+}
+
+// Copper's elastic constants (Kittel): the Voigt matrix becomes C_ijkl with minor and major
+// symmetry, and the longitudinal modulus is C11 along [100] and (C11 + 2 C12 + 4 C44) / 3 along
+// [111].
+TEST(SymmetricTensor, StiffnessFromVoigtGivesTheLongitudinalModulus)
+{
+  const double c11 = 168.4, c12 = 121.4, c44 = 75.4;
+  double voigt[36] = {};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      voigt[6 * i + j] = i == j ? c11 : c12;
+  voigt[21] = voigt[28] = voigt[35] = c44;
+  const std::vector<double> c = sightline::stiffnessFromVoigt(voigt);
+  auto at = [&](int i, int j, int k, int l) { return c[i + 3 * j + 9 * k + 27 * l]; };
+  EXPECT_EQ(at(0, 0, 0, 0), c11);
+  EXPECT_EQ(at(0, 0, 1, 1), c12);
+  EXPECT_EQ(at(0, 1, 0, 1), c44);
+  EXPECT_EQ(at(0, 1, 1, 0), c44);
+  EXPECT_EQ(at(1, 0, 0, 1), c44);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+        {
+          EXPECT_EQ(at(i, j, k, l), at(j, i, k, l));
+          EXPECT_EQ(at(i, j, k, l), at(k, l, i, j));
+        }
+  const std::vector<double> unique = sightline::symmetricPartFromFull(4, c.data());
+  EXPECT_NEAR(sightline::evaluateSymmetricTensor(4, unique.data(), 1, 0, 0), c11, 1e-12);
+  const double s = 1.0 / std::sqrt(3.0);
+  EXPECT_NEAR(sightline::evaluateSymmetricTensor(4, unique.data(), s, s, s),
+    (c11 + 2 * c12 + 4 * c44) / 3, 1e-10);
+}

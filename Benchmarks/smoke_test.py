@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Smoke test of sightline-benchmark (ctest: sightline-benchmark-smoke, labels benchmark;display,
 sightline-benchmark-smoke-sh-glyphs, label benchmark, and sightline-benchmark-smoke-sh-glyph-window,
-labels benchmark;display).
+labels benchmark;display), and sightline-benchmark-smoke-tensor-glyphs, label benchmark.
 
 --scene spheres (the default) runs the harness on a tiny sphere scene and checks what it wrote,
 not the timings: every method has its row, the exact Sightline images (GL-free and in a window)
@@ -22,6 +22,12 @@ and checks that k8 and k4 each have the Sightline row and both DIPY-sphere mesh 
 measurement (first image, still and interactive frames, memory, RSS, Sightline's ScaleFactor
 update with no box recomputed), that the meshes line up with Sightline's exact glyphs (small
 errors, so basis, size and colours agree) and that the coarser sphere is the less accurate.
+
+--scene tensor-glyphs runs a 6x6 slice of tensor glyphs at 160x90 (no display needed) and checks
+that every data set (cu4, hot8, hot12) has every method's row, the exact method and the fine
+reduced affine subdivision match the converged reference, the paper's recommended marching
+(step 0.2) is less accurate than the exact method and step 0.01 more accurate than step 0.2,
+the intersection-cost CSV has positive costs, and the plot script makes its figure.
 """
 
 import argparse
@@ -271,6 +277,72 @@ def check_sh_glyphs(arguments):
     return 0
 
 
+TENSOR_SIDE = 6
+TENSOR_WIDTH, TENSOR_HEIGHT = 160, 90
+TENSOR_DATASETS = ["cu4", "hot8", "hot12"]
+TENSOR_METHODS = ["reference", "sightline", "march-0.2-lin", "march-0.2-lin-nocentre",
+                  "march-0.2-bisect3", "march-0.1-lin", "march-0.05-lin", "march-0.02-lin",
+                  "march-0.01-lin", "ia-1e-3", "raa-1e-3", "raa-1e-4"]
+
+
+def check_tensor_glyphs(arguments):
+    if os.path.isdir(arguments.output):
+        shutil.rmtree(arguments.output)
+    count = TENSOR_SIDE * TENSOR_SIDE
+    command = [arguments.harness, "--scene", "tensor-glyphs", "--count", str(count),
+               "--width", str(TENSOR_WIDTH), "--height", str(TENSOR_HEIGHT), "--runs", "1",
+               "--output", arguments.output, "--no-plot"]
+    print(" ".join(command), flush=True)
+    if subprocess.run(command, timeout=150).returncode != 0:
+        fail("the harness failed")
+    expected = [f"{d}:{m}" for d in TENSOR_DATASETS for m in TENSOR_METHODS]
+    rows, by_method = read_rows(arguments, "tensor-glyphs", expected)
+    for row in rows:
+        if row["status"] != "ok":
+            fail(f"{row['method']}: status {row['status']} ({row['notes']})")
+        check_size(row, count, TENSOR_WIDTH, TENSOR_HEIGHT)
+        if value(row, "frame_seconds_median") <= 0:
+            fail(f"{row['method']}: no frame time")
+
+    def error(name):
+        return value(by_method[name], "rgb_mean_abs_diff") + \
+            value(by_method[name], "coverage_diff_percent")
+
+    for dataset in TENSOR_DATASETS:
+        if error(f"{dataset}:reference") != 0.0:
+            fail(f"{dataset}:reference differs from itself")
+        exact = error(f"{dataset}:sightline")
+        if exact > 0.05 or error(f"{dataset}:raa-1e-4") > 0.05:
+            fail(f"{dataset}: the exact method ({exact}) or the fine affine subdivision "
+                 f"({error(dataset + ':raa-1e-4')}) does not match the converged reference")
+        coarse, fine = error(f"{dataset}:march-0.2-lin"), error(f"{dataset}:march-0.01-lin")
+        if not coarse > exact or not coarse > fine:
+            fail(f"{dataset}: marching errors {coarse} (step 0.2), {fine} (step 0.01) against the "
+                 f"exact method's {exact}: the comparison is broken")
+
+    micro_path = os.path.join(arguments.output, "tensor-glyphs-intersection.csv")
+    if not os.path.isfile(micro_path):
+        fail(f"no {micro_path}")
+    with open(micro_path, newline="") as stream:
+        micro = list(csv.DictReader(stream))
+    if len(micro) != len(TENSOR_DATASETS) * 5:
+        fail(f"{micro_path}: {len(micro)} rows")
+    for row in micro:
+        if not float(row["hit_ns"]) > 0 or not float(row["miss_ns"]) > 0:
+            fail(f"{micro_path}: no cost for {row['dataset']} {row['method']}")
+
+    plot = subprocess.run([sys.executable, arguments.plot_script,
+                           csv_file(arguments, "tensor-glyphs")], timeout=60)
+    plot_path = os.path.join(arguments.output, "tensor-glyphs.png")
+    if plot.returncode != 0 or not os.path.isfile(plot_path) or os.path.getsize(plot_path) < 10000:
+        fail("plot_benchmarks.py did not write the plot")
+    print(f"OK: {len(rows)} rows; exact errors "
+          + ", ".join(f"{d} {error(d + ':sightline'):.3g}" for d in TENSOR_DATASETS)
+          + "; marching 0.2 " + ", ".join(f"{d} {error(d + ':march-0.2-lin'):.3g}"
+                                          for d in TENSOR_DATASETS) + f"; plot {plot_path}")
+    return 0
+
+
 WINDOW_SIDE = 12
 WINDOW_WIDTH, WINDOW_HEIGHT = 192, 108
 WINDOW_ORDERS = ["k8", "k4"]
@@ -358,7 +430,8 @@ def main():
     parser.add_argument("--harness", required=True)
     parser.add_argument("--plot-script", required=True)
     parser.add_argument("--output", required=True)
-    parser.add_argument("--scene", choices=["spheres", "sh-glyphs", "sh-glyph-window"],
+    parser.add_argument("--scene", choices=["spheres", "sh-glyphs", "sh-glyph-window",
+                                            "tensor-glyphs"],
                         default="spheres")
     parser.add_argument("--data-dir", help="sh-glyph-window: where its data is kept")
     arguments = parser.parse_args()
@@ -366,6 +439,8 @@ def main():
         return check_sh_glyphs(arguments)
     if arguments.scene == "sh-glyph-window":
         return check_sh_glyph_window(arguments)
+    if arguments.scene == "tensor-glyphs":
+        return check_tensor_glyphs(arguments)
     return check_spheres(arguments)
 
 

@@ -52,6 +52,11 @@ public:
   /// arithmetic with the one noise symbol e (Comba and Stolfi): tighter than intervals because
   /// the linear parts of T and |p|^(n+1) cancel.
   Interval implicitAffine(const dvec3& center, const dvec3& half, bool positiveOnly) const;
+  /// Bytes held, the object included.
+  std::size_t memoryBytes() const
+  {
+    return sizeof(*this) + Weights.capacity() * sizeof(double) + Exponents.capacity() * 3;
+  }
 
 private:
   int Order = 0;

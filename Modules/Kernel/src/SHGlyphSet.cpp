@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <numeric>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -206,7 +207,8 @@ std::size_t SHGlyphSet::memoryBytes() const
 {
   return Glyphs.capacity() * sizeof(Glyph) + DoubleCoefficients.capacity() * sizeof(double) +
     FloatCoefficients.capacity() * sizeof(float) + Colors.capacity() * sizeof(std::uint32_t) +
-    Cartesian.size() * sizeof(CartesianGlyphFunction) +
+    std::accumulate(Cartesian.begin(), Cartesian.end(), std::size_t(0),
+      [](std::size_t sum, const CartesianGlyphFunction& f) { return sum + f.memoryBytes(); }) +
     SourceIndex.capacity() * sizeof(std::uint32_t);
 }
 

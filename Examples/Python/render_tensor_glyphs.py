@@ -18,6 +18,7 @@ Examples:
   render_tensor_glyphs.py --output out                               # copper polycrystal
   render_tensor_glyphs.py --tensor small_64D_gdti4.nii.gz --layout unique --output out
   render_tensor_glyphs.py --tensor small_64D_dti.nii.gz --layout unique --shape ellipsoid
+  render_tensor_glyphs.py --tensor dt.mif.nii --layout unique --frame world   # MRtrix3 axes
   render_tensor_glyphs.py --method marching --step 0.2 --output out  # the paper's own method
 
 Run with Debian's /usr/bin/python3 (VTK 9.1), PYTHONPATH pointing at the build tree's
@@ -84,6 +85,17 @@ def copper_polycrystal(grains, seed=7):
     return poly
 
 
+def file_axes_to_world(reader):
+    """The map from the NIfTI file's voxel axes to world axes (tensors fitted with FSL-style
+    b-vectors, as DIPY and FSL do, are in those axes). vtkNIFTIImageReader's qform has its third
+    column negated when it reversed the slice order (qfac -1); the file's axes need it back."""
+    matrix = vtk.vtkMatrix4x4()
+    matrix.DeepCopy(reader.GetQFormMatrix())
+    for row in range(3):
+        matrix.SetElement(row, 2, matrix.GetElement(row, 2) * reader.GetQFac())
+    return matrix
+
+
 def build_pipeline(args):
     mapper = sightline.vtkSightlineTensorGlyphMapper()
     if args.tensor:
@@ -91,7 +103,10 @@ def build_pipeline(args):
         reader.SetFileName(args.tensor)
         reader.TimeAsVectorOn()
         mapper.SetInputConnection(reader.GetOutputPort())
+        reader.Update()
         mapper.SetDataToWorldMatrix(reader.GetQFormMatrix())
+        if args.frame == "voxel":
+            mapper.SetDirectionToWorldMatrix(file_axes_to_world(reader))
         mapper.SetSliceOrientationToAxial()
         mapper.SetScaleFactor(0.9)
         if args.index is not None:
@@ -132,6 +147,9 @@ def main(argv=None):
     parser.add_argument("--coloring", choices=("direction", "radius", "solid"))
     parser.add_argument("--shadows", choices=("off", "hard", "soft"), default="soft")
     parser.add_argument("--index", type=int, help="axial slice index (default: middle)")
+    parser.add_argument("--frame", choices=("voxel", "world"), default="voxel",
+                        help="axes of the tensor's directions: the file's voxel axes (FSL, DIPY; "
+                             "the default) or world axes (MRtrix3)")
     parser.add_argument("--grains", type=int, default=4, help="copper grains per side")
     parser.add_argument("--size", type=int, nargs=2, default=(1200, 900))
     parser.add_argument("--gl-free", action="store_true", help="render without OpenGL")

@@ -130,6 +130,7 @@ public:
   PointCache Glyphs;
   PointCache Uncertainty;
   std::shared_ptr<sightline::SHGlyphSet> GlyphSet;
+  std::shared_ptr<sightline::Geometry> Drawn; ///< what the last build drew (GlyphSet or another shape)
   std::shared_ptr<sightline::SHGlyphSet> UncertaintySet;
   std::unique_ptr<sightline::EmbreeScene> UncertaintyScene;
   double WorldScale = 1.0; ///< world length of a normalised glyph radius of 1
@@ -331,6 +332,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
 {
   vtkGlyphInternals& in = *this->GlyphInternals;
   in.GlyphSet.reset();
+  in.Drawn.reset();
   in.UncertaintySet.reset();
   in.UncertaintyScene.reset();
   this->LastComputedBoxes = 0;
@@ -341,7 +343,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   const vtkIdType points = input ? input->GetNumberOfPoints() : 0;
   if (points == 0)
   {
-    vtkErrorMacro(<< "The input has no points: there are no SH glyphs to render.");
+    vtkErrorMacro(<< "The input has no points: there are no glyphs to render.");
     return nullptr;
   }
   if (!(std::isfinite(this->ScaleFactor) && this->ScaleFactor > 0.0))
@@ -814,6 +816,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   try
   {
     geometry = this->CreateGlyphGeometry(centers, drawnValues, order, options, scales, colors, halfExtents);
+    in.Drawn = geometry;
 
     // Uncertainty glyphs: the same centres and scale factors, drawn as a volume.
     if (this->UncertaintyArrayName && *this->UncertaintyArrayName)
@@ -869,6 +872,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGeometry()
   {
     vtkErrorMacro(<< "Could not build the glyphs: " << e.what());
     in.GlyphSet.reset();
+    in.Drawn.reset();
     in.UncertaintySet.reset();
     in.UncertaintyScene.reset();
     return nullptr;
@@ -939,9 +943,9 @@ vtkIdType vtkSightlineSHGlyphMapper::GetMemoryBytes()
 {
   const vtkGlyphInternals& in = *this->GlyphInternals;
   std::size_t bytes = in.Glyphs.MemoryBytes() + in.Uncertainty.MemoryBytes();
-  if (in.GlyphSet)
+  if (in.Drawn)
   {
-    bytes += in.GlyphSet->memoryBytes();
+    bytes += in.Drawn->memoryBytes();
   }
   if (in.UncertaintySet)
   {

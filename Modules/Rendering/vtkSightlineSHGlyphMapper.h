@@ -327,7 +327,7 @@ public:
   /**
    * Bytes held by the glyph geometry and the per-voxel caches (not the input).
    */
-  vtkIdType GetMemoryBytes();
+  virtual vtkIdType GetMemoryBytes();
 
 protected:
   vtkSightlineSHGlyphMapper();

@@ -335,6 +335,14 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTensorGlyphMapper::CreateGlyphG
 }
 
 //------------------------------------------------------------------------------
+vtkIdType vtkSightlineTensorGlyphMapper::GetMemoryBytes()
+{
+  const vtkDoubleArray* converted = this->TensorInternals->Coefficients;
+  return this->Superclass::GetMemoryBytes() +
+    static_cast<vtkIdType>(const_cast<vtkDoubleArray*>(converted)->GetDataSize() * sizeof(double));
+}
+
+//------------------------------------------------------------------------------
 void vtkSightlineTensorGlyphMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -144,6 +144,12 @@ public:
   vtkSetClampMacro(SubdivisionTolerance, double, 1e-12, 0.5);
   vtkGetMacro(SubdivisionTolerance, double);
 
+  /**
+   * The superclass's bytes plus the tensors converted to SH coefficients (one copy of the
+   * tensor array, kept while it does not change).
+   */
+  vtkIdType GetMemoryBytes() override;
+
 protected:
   vtkSightlineTensorGlyphMapper();
   ~vtkSightlineTensorGlyphMapper() override;

@@ -348,6 +348,15 @@ TEST(TensorGlyphMapper, DTIEllipsoidsMatchVTKTensorGlyph)
   };
   auto exact = ours(true);
   const int covered = CoveredPixels(exact);
+  {
+    // The ellipsoids and the converted tensors are counted: more than the 6 doubles per voxel.
+    Scene scene(32, 32);
+    scene.mapper->SetInputDataObject(slice);
+    scene.mapper->SetTensorLayoutToSymmetricUnique();
+    scene.mapper->SetShapeToEllipsoid();
+    scene.window->Render();
+    EXPECT_GT(scene.mapper->GetMemoryBytes(), vtkIdType(6 * sizeof(double) * slice->GetNumberOfPoints()));
+  }
   EXPECT_GT(covered, 8000);
   const int coarse = Mismatch(exact, tessellated(8));
   const int fine = Mismatch(exact, tessellated(64));

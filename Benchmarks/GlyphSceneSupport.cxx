@@ -92,6 +92,8 @@ BuiltScene::BuiltScene(std::shared_ptr<const sightline::Geometry> geometry)
 
 std::string fixed(double value, int precision)
 {
+  if (!std::isfinite(value))
+    return "-";
   std::ostringstream s;
   s << std::fixed << std::setprecision(precision) << value;
   return s.str();

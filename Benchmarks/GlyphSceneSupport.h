@@ -1,4 +1,4 @@
-// What the glyph scenes (sh-glyphs, tensor-glyphs) share: a slice of glyphs seen from above at
+// What the glyph scenes (sh-glyphs, tensor-glyphs, and in part sh-glyph-window) share: a slice of glyphs seen from above at
 // a tilt, one light, the glyph material, Embree scenes built per method, methods prepared and
 // then timed round robin, and the pixel and per-call measures their tables report.
 #pragma once
@@ -53,7 +53,7 @@ struct BuiltScene
   std::size_t bytes() const { return scene->geometryBytes() + std::size_t(scene->bvhBytes()); }
 };
 
-/// `value` with `precision` digits after the point.
+/// `value` with `precision` digits after the point; "-" when it is not finite.
 std::string fixed(double value, int precision);
 
 /// One method, built and rendered once, ready for timed frames: a surface scene, optionally

@@ -23,6 +23,7 @@
 // Rows are named "k8:<method>" and "k4:<method>", and none is marked isReference: the harness
 // knows one reference per run, so this scene compares each mesh with its own k's Sightline
 // image itself (as the sh-glyphs scene does), and writes the difference images.
+#include "GlyphSceneSupport.h"
 #include "SceneRegistry.h"
 
 #include "vtkActor.h"
@@ -72,9 +73,6 @@ namespace
 {
 namespace fs = std::filesystem;
 
-const double kBackground[3] = { 0.1, 0.1, 0.12 };
-/// The camera looks down at the slice, tilted this far (degrees) about the slice's x axis.
-constexpr double kTiltDegrees = 20.0;
 /// Zoom after framing the slice's bounding sphere, so that the slice fills the image height.
 constexpr double kZoom = 1.35;
 /// vtkRenderWindowInteractor's rates: still (after interaction) and while the user drags.
@@ -86,17 +84,6 @@ constexpr double kChangedScaleFactor = 0.8;
 /// vertex counts, and that default means these.
 const std::vector<int> kHarnessDefaultTessellations{ 8, 16, 32 };
 const std::vector<int> kDefaultSphereVertices{ 724, 100 };
-/// A pixel "differs" when a channel differs by more than this (0-255).
-constexpr int kPixelThreshold = 8;
-
-std::string fixed(double value, int precision)
-{
-  if (!std::isfinite(value))
-    return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << value;
-  return s.str();
-}
 
 std::string shellQuote(const std::string& text)
 {
@@ -432,7 +419,7 @@ struct Window
   Window(const Options& options, vtkCamera* camera)
     : window(makeOffscreenWindow(options.width, options.height))
   {
-    renderer->SetBackground(kBackground[0], kBackground[1], kBackground[2]);
+    renderer->SetBackground(kGlyphBackground[0], kGlyphBackground[1], kGlyphBackground[2]);
     renderer->SetActiveCamera(camera);
     window->AddRenderer(renderer);
     window->SetDesiredUpdateRate(kStillUpdateRate);
@@ -643,20 +630,6 @@ MethodResult runMesh(const Options& options, vtkImageData* image, int order,
   result.notes = notes.str();
   window.renderer->RemoveActor(actor);
   return result;
-}
-
-//------------------------------------------------------------------------------
-double differingPixelPercent(const Image& image, const Image& reference)
-{
-  std::size_t differing = 0;
-  for (std::size_t i = 0; i < image.pixelCount(); ++i)
-    for (int c = 0; c < 3; ++c)
-      if (std::abs(int(image.rgb[3 * i + c]) - int(reference.rgb[3 * i + c])) > kPixelThreshold)
-      {
-        ++differing;
-        break;
-      }
-  return 100.0 * double(differing) / double(std::max<std::size_t>(1, image.pixelCount()));
 }
 
 std::vector<int> sphereVertexCounts(const Options& options)

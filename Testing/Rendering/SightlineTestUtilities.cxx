@@ -191,4 +191,14 @@ bool MessageCollector::Contains(const std::string& fragment) const
   return std::any_of(Errors.begin(), Errors.end(), has) ||
     std::any_of(Warnings.begin(), Warnings.end(), has);
 }
+void ViewSingleGlyph(vtkRenderer* renderer)
+{
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetPosition(3, -4, 5);
+  camera->SetViewUp(0, 0, 1);
+  camera->ParallelProjectionOn();
+  camera->SetParallelScale(1.15);
+  renderer->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
+}
 } // namespace sightline_test

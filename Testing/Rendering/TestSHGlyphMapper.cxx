@@ -107,39 +107,7 @@ vtkSmartPointer<vtkPolyData> SingleGlyph(vtkImageData* image, vtkIdType voxel)
   return glyph;
 }
 
-struct Scene
-{
-  vtkNew<vtkSightlineSHGlyphMapper> mapper;
-  vtkNew<vtkActor> actor;
-  vtkNew<vtkRenderer> renderer;
-  vtkNew<vtkRenderWindow> window;
-
-  Scene(int width, int height)
-  {
-    actor->SetMapper(mapper);
-    actor->GetProperty()->SetAmbient(0.15);
-    actor->GetProperty()->SetSpecular(0.4);
-    actor->GetProperty()->SetSpecularPower(40);
-    renderer->AddActor(actor);
-    renderer->SetBackground(Black[0], Black[1], Black[2]);
-    window->AddRenderer(renderer);
-    window->SetSize(width, height);
-    window->SetOffScreenRendering(1);
-    window->SetMultiSamples(0);
-  }
-};
-
-/// An oblique, fixed view of a single unit glyph at the origin.
-void ViewSingleGlyph(vtkRenderer* renderer)
-{
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetPosition(3, -4, 5);
-  camera->SetViewUp(0, 0, 1);
-  camera->ParallelProjectionOn();
-  camera->SetParallelScale(1.15);
-  renderer->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-}
+using Scene = MapperScene<vtkSightlineSHGlyphMapper>;
 
 /// Renders the voxel's glyph from the given file and basis, order-truncated.
 vtkSmartPointer<vtkImageData> RenderVoxel(

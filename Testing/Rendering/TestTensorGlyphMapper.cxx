@@ -61,39 +61,7 @@ vtkSmartPointer<vtkImageData> ReadAxialSlice(const std::string& name)
   return slice;
 }
 
-struct Scene
-{
-  vtkNew<vtkSightlineTensorGlyphMapper> mapper;
-  vtkNew<vtkActor> actor;
-  vtkNew<vtkRenderer> renderer;
-  vtkNew<vtkRenderWindow> window;
-
-  Scene(int width, int height)
-  {
-    actor->SetMapper(mapper);
-    actor->GetProperty()->SetAmbient(0.15);
-    actor->GetProperty()->SetSpecular(0.4);
-    actor->GetProperty()->SetSpecularPower(40);
-    renderer->AddActor(actor);
-    renderer->SetBackground(0, 0, 0);
-    window->AddRenderer(renderer);
-    window->SetSize(width, height);
-    window->SetOffScreenRendering(1);
-    window->SetMultiSamples(0);
-  }
-};
-
-/// A fixed oblique view of one glyph of radius <= 1 at the origin.
-void ViewSingleGlyph(vtkRenderer* renderer)
-{
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetPosition(3, -4, 5);
-  camera->SetViewUp(0, 0, 1);
-  camera->ParallelProjectionOn();
-  camera->SetParallelScale(1.15);
-  renderer->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-}
+using Scene = MapperScene<vtkSightlineTensorGlyphMapper>;
 
 /// The image's slice seen from above (+z), parallel projection.
 void ViewSliceFromAbove(vtkRenderer* renderer, vtkImageData* slice)

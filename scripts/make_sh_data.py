@@ -124,6 +124,37 @@ def save_nifti(path, data, affine, dtype=np.float32):
     nib.save(image, path)
 
 
+def load_small_64d():
+    """DIPY's small_64D: affine, DWI (float64), gradient table, mean b0 and the tissue mask
+    (b0 at or below Otsu's threshold: tissue, not CSF; see the module docstring)."""
+    dwi_path, bval_path, bvec_path = dipy.data.get_fnames("small_64D")
+    dwi_image = nib.load(dwi_path)
+    data = np.asarray(dwi_image.dataobj, dtype=np.float64)
+    bvals, bvecs = read_bvals_bvecs(bval_path, bvec_path)
+    gtab = gradient_table(bvals, bvecs)
+    b0 = data[..., gtab.b0s_mask].mean(axis=-1)
+    mask = (b0 <= otsu(b0)).astype(np.uint8)
+    return dwi_image.affine, data, gtab, b0, mask
+
+
+def read_with_vtk(path):
+    """vtkNIFTIImageReader's view of a 4-D NIfTI (TimeAsVectorOn): the reader, its point array,
+    and that array as (i, j, k, component) to compare with nibabel's."""
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkNIFTIImageReader()
+    reader.SetFileName(path)
+    reader.TimeAsVectorOn()
+    reader.Update()
+    output = reader.GetOutput()
+    scalars = output.GetPointData().GetScalars()
+    dims = output.GetDimensions()
+    # VTK arrays are x-fastest: reshape to (k, j, i, c) and transpose to (i, j, k, c).
+    voxels = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0], -1).transpose(2, 1, 0, 3)
+    return reader, scalars, voxels
+
+
 def summary(path, data, basis):
     name = os.path.basename(path)
     if data.ndim == 4 and data.shape[-1] == N_COEFFS:
@@ -258,18 +289,12 @@ def check_vtk(out, tile):
         path = os.path.join(out, name)
         image = nib.load(path)
         expected = np.asarray(image.dataobj)
-        reader = vtk.vtkNIFTIImageReader()
-        reader.SetFileName(path)
-        reader.TimeAsVectorOn()
-        reader.Update()
+        reader, scalars, got = read_with_vtk(path)
         output = reader.GetOutput()
-        scalars = output.GetPointData().GetScalars()
         dims = output.GetDimensions()
         assert scalars.GetNumberOfComponents() == N_COEFFS, scalars.GetNumberOfComponents()
         assert tuple(dims) == expected.shape[:3], dims
         spacing = np.array(output.GetSpacing())
-        # VTK arrays are x-fastest: reshape to (k, j, i, c) and transpose to (i, j, k, c).
-        got = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0], -1).transpose(2, 1, 0, 3)
         qfac = reader.GetQFac()
         reversed_slices = np.array_equal(got, expected[:, :, ::-1, :])
         straight = np.array_equal(got, expected)
@@ -326,15 +351,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     start = time.perf_counter()
 
-    dwi_path, bval_path, bvec_path = dipy.data.get_fnames("small_64D")
-    dwi_image = nib.load(dwi_path)
-    affine = dwi_image.affine
-    data = np.asarray(dwi_image.dataobj, dtype=np.float64)
-    bvals, bvecs = read_bvals_bvecs(bval_path, bvec_path)
-    gtab = gradient_table(bvals, bvecs)
-
-    b0 = data[..., gtab.b0s_mask].mean(axis=-1)
-    mask = (b0 <= otsu(b0)).astype(np.uint8)      # tissue, not CSF: see the module docstring
+    affine, data, gtab, b0, mask = load_small_64d()
     fa = np.clip(np.nan_to_num(dti.TensorModel(gtab).fit(data).fa), 0.0, 1.0)
 
     response, ratio = auto_response_ssst(gtab, data, roi_radii=10, fa_thr=0.7)

@@ -48,32 +48,17 @@ import numpy as np
 
 try:
     import nibabel as nib
-    import dipy.data
-    from dipy.core.gradients import gradient_table
-    from dipy.io.gradients import read_bvals_bvecs
-    from dipy.segment.threshold import otsu
     import dipy.reconst.dti as dti
 except ImportError as error:  # a missing dependency is a failure, not a skip
     sys.exit(f"make_tensor_data.py: {error} (run with /usr/bin/python3; install python3-dipy, "
              "python3-nibabel)")
+# The same input, mask, NIfTI writer and VTK reading as the SH data (this script's folder).
+from make_sh_data import load_small_64d, log, read_with_vtk, save_nifti
 
 warnings.simplefilter("ignore")
 PREFIX = "small_64D"
 ORDERS = (4, 6, 8)
 SIGNAL_FLOOR = 1e-3
-
-
-def log(message):
-    print(message, flush=True)
-
-
-def save_nifti(path, data, affine, dtype=np.float32):
-    image = nib.Nifti1Image(np.asarray(data, dtype=dtype), affine)
-    image.set_qform(affine, code=1)
-    image.set_sform(affine, code=1)
-    image.header.set_xyzt_units("mm", "sec")
-    image.header.set_data_dtype(dtype)
-    nib.save(image, path)
 
 
 def exponents(order):
@@ -108,21 +93,12 @@ def fit_tensor(values, bvecs, order):
 
 
 def check_vtk(out, names):
-    import vtk
-    from vtk.util.numpy_support import vtk_to_numpy
-
     for name, components in names:
         path = os.path.join(out, name)
         expected = np.asarray(nib.load(path).dataobj)
-        reader = vtk.vtkNIFTIImageReader()
-        reader.SetFileName(path)
-        reader.TimeAsVectorOn()
-        reader.Update()
-        output = reader.GetOutput()
-        scalars = output.GetPointData().GetScalars()
-        dims = output.GetDimensions()
+        reader, scalars, got = read_with_vtk(path)
+        dims = reader.GetOutput().GetDimensions()
         assert scalars.GetNumberOfComponents() == components, scalars.GetNumberOfComponents()
-        got = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0], -1).transpose(2, 1, 0, 3)
         assert reader.GetQFac() < 0
         assert np.array_equal(got, expected[:, :, ::-1, :]), "expected reversed slices (qfac -1)"
         log(f"check VTK {name}: {components} components in array '{scalars.GetName()}', "
@@ -139,17 +115,9 @@ def main():
     os.makedirs(out, exist_ok=True)
     start = time.perf_counter()
 
-    dwi_path, bval_path, bvec_path = dipy.data.get_fnames("small_64D")
-    dwi_image = nib.load(dwi_path)
-    affine = dwi_image.affine
-    data = np.asarray(dwi_image.dataobj, dtype=np.float64)
-    bvals, bvecs = read_bvals_bvecs(bval_path, bvec_path)
-    gtab = gradient_table(bvals, bvecs)
+    affine, data, gtab, b0, mask = load_small_64d()
     weighted = ~gtab.b0s_mask
     directions = gtab.bvecs[weighted]
-
-    b0 = data[..., gtab.b0s_mask].mean(axis=-1)
-    mask = (b0 <= otsu(b0)).astype(np.uint8)      # tissue, not CSF (as make_sh_data.py)
     inside = mask > 0
 
     fit = dti.TensorModel(gtab).fit(data)

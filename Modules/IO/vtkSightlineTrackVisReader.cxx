@@ -1,0 +1,345 @@
+#include "vtkSightlineTrackVisReader.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkSightlineTrackVisReader);
+
+namespace
+{
+constexpr int kHeaderSize = 1000;
+
+/// Reads little- or big-endian values from the header and the body.
+class Decoder
+{
+public:
+  explicit Decoder(bool swap) : Swap(swap) {}
+
+  template <class T>
+  T Get(const char* bytes) const
+  {
+    char copy[sizeof(T)];
+    std::memcpy(copy, bytes, sizeof(T));
+    if (this->Swap)
+    {
+      std::reverse(copy, copy + sizeof(T));
+    }
+    T value;
+    std::memcpy(&value, copy, sizeof(T));
+    return value;
+  }
+
+private:
+  bool Swap;
+};
+
+/// The name in a fixed 20-byte header field (NUL-padded), or `fallback` when empty.
+std::string FieldName(const char* bytes, const std::string& fallback)
+{
+  std::string name(bytes, strnlen(bytes, 20));
+  return name.empty() ? fallback : name;
+}
+
+/// Orientation of voxel axis j of a matrix: the world axis (0 x/R, 1 y/A, 2 z/S) it runs along
+/// most and the direction (+1 towards R/A/S).
+void AxisCodes(const double m[4][4], int axis[3], int sign[3])
+{
+  for (int j = 0; j < 3; ++j)
+  {
+    int best = 0;
+    for (int i = 1; i < 3; ++i)
+    {
+      if (std::abs(m[i][j]) > std::abs(m[best][j]))
+      {
+        best = i;
+      }
+    }
+    axis[j] = best;
+    sign[j] = m[best][j] >= 0.0 ? 1 : -1;
+  }
+}
+} // namespace
+
+vtkSightlineTrackVisReader::vtkSightlineTrackVisReader()
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkSightlineTrackVisReader::~vtkSightlineTrackVisReader()
+{
+  this->SetFileName(nullptr);
+}
+
+int vtkSightlineTrackVisReader::CanReadFile(const char* fileName)
+{
+  std::ifstream file(fileName ? fileName : "", std::ios::binary);
+  char id[6] = {};
+  return file.read(id, 6) && std::memcmp(id, "TRACK", 5) == 0;
+}
+
+int vtkSightlineTrackVisReader::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  this->VoxmmToRAS->Identity();
+  if (!this->FileName || !*this->FileName)
+  {
+    vtkErrorMacro(<< "No FileName was set.");
+    return 0;
+  }
+  const std::string name = this->FileName;
+  std::ifstream file(name, std::ios::binary);
+  if (!file)
+  {
+    vtkErrorMacro(<< "Cannot open the TrackVis file '" << name << "' (missing or unreadable).");
+    return 0;
+  }
+  char header[kHeaderSize];
+  if (!file.read(header, kHeaderSize) || std::memcmp(header, "TRACK", 5) != 0)
+  {
+    vtkErrorMacro(<< "'" << name << "' is not a TrackVis file: it does not start with a "
+                  << kHeaderSize << "-byte header whose id is TRACK.");
+    return 0;
+  }
+  // The header size (1000) tells the byte order: read as the host's, or swapped.
+  const Decoder native(false), swapped(true);
+  Decoder decode = native;
+  if (native.Get<std::int32_t>(header + 996) != kHeaderSize)
+  {
+    if (swapped.Get<std::int32_t>(header + 996) != kHeaderSize)
+    {
+      vtkErrorMacro(<< "'" << name << "': the header size field is neither 1000 little- nor "
+                    << "big-endian; not a TrackVis file or a damaged one.");
+      return 0;
+    }
+    decode = swapped;
+  }
+
+  int dims[3];
+  double voxelSize[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    dims[a] = decode.Get<std::int16_t>(header + 6 + 2 * a);
+    voxelSize[a] = decode.Get<float>(header + 12 + 4 * a);
+  }
+  const int scalars = std::max(0, static_cast<int>(decode.Get<std::int16_t>(header + 36)));
+  const int properties = std::max(0, static_cast<int>(decode.Get<std::int16_t>(header + 238)));
+  if (scalars > 10 || properties > 10)
+  {
+    vtkErrorMacro(<< "'" << name << "': " << scalars << " scalars and " << properties
+                  << " properties per point/streamline; TrackVis allows 10 of each.");
+    return 0;
+  }
+  double voxToRAS[4][4];
+  for (int r = 0; r < 4; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      voxToRAS[r][c] = decode.Get<float>(header + 440 + 4 * (4 * r + c));
+    }
+  }
+  if (voxToRAS[3][3] == 0.0)
+  {
+    // Version 1 files have none: TrackVis assumes the identity (as nibabel does).
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        voxToRAS[r][c] = r == c ? 1.0 : 0.0;
+      }
+    }
+  }
+  std::string order(header + 948, strnlen(header + 948, 4));
+  for (char& ch : order)
+  {
+    ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  }
+  if (order.size() != 3)
+  {
+    order = "LPS"; // TrackVis' default when the file says nothing
+  }
+  std::copy(order.begin(), order.end(), this->VoxelOrder);
+  this->VoxelOrder[3] = 0;
+
+  // voxmm -> voxel centres -> the matrix's voxel order (nibabel's ornt_transform and
+  // inv_ornt_aff) -> RAS mm.
+  if (!this->CoordinatesVoxmm)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (!(voxelSize[a] > 0.0))
+      {
+        vtkErrorMacro(<< "'" << name << "': voxel size " << voxelSize[a] << " along axis " << a
+                      << " cannot map voxmm to RAS mm (CoordinatesVoxmm keeps the raw values).");
+        return 0;
+      }
+    }
+    int matrixAxis[3], matrixSign[3];
+    AxisCodes(voxToRAS, matrixAxis, matrixSign);
+    int toAxis[3], flip[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      const char letter = order[i];
+      const char* positive = "RAS";
+      const char* negative = "LPI";
+      const char* p = std::strchr(positive, letter);
+      const char* q = std::strchr(negative, letter);
+      if (!letter || (!p && !q))
+      {
+        vtkErrorMacro(<< "'" << name << "': voxel order '" << order << "' is not made of R/L, A/P, S/I.");
+        return 0;
+      }
+      const int worldAxis = p ? static_cast<int>(p - positive) : static_cast<int>(q - negative);
+      const int sign = p ? 1 : -1;
+      toAxis[i] = -1;
+      for (int j = 0; j < 3; ++j)
+      {
+        if (matrixAxis[j] == worldAxis)
+        {
+          toAxis[i] = j;
+          flip[i] = sign * matrixSign[j];
+        }
+      }
+      if (toAxis[i] < 0)
+      {
+        vtkErrorMacro(<< "'" << name << "': voxel order '" << order
+                      << "' does not match the axes of the voxel-to-RAS matrix.");
+        return 0;
+      }
+    }
+    vtkNew<vtkMatrix4x4> toCentres; // voxmm / size - 0.5
+    vtkNew<vtkMatrix4x4> reorder;   // y_i = flip(x)_{toAxis[i]} about the grid's centre
+    reorder->Zero();
+    reorder->SetElement(3, 3, 1.0);
+    for (int a = 0; a < 3; ++a)
+    {
+      toCentres->SetElement(a, a, 1.0 / voxelSize[a]);
+      toCentres->SetElement(a, 3, -0.5);
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      const int k = toAxis[i];
+      const double centre = 0.5 * (dims[k] - 1);
+      reorder->SetElement(i, k, flip[k]);
+      reorder->SetElement(i, 3, centre - flip[k] * centre);
+    }
+    vtkNew<vtkMatrix4x4> toRAS;
+    toRAS->DeepCopy(&voxToRAS[0][0]);
+    vtkMatrix4x4::Multiply4x4(reorder, toCentres, this->VoxmmToRAS);
+    vtkMatrix4x4::Multiply4x4(toRAS, this->VoxmmToRAS, this->VoxmmToRAS);
+  }
+
+  // The streamlines.
+  file.seekg(0, std::ios::end);
+  const long long size = static_cast<long long>(file.tellg());
+  std::vector<char> body(static_cast<std::size_t>(std::max(0LL, size - kHeaderSize)));
+  file.seekg(kHeaderSize);
+  file.read(body.data(), static_cast<std::streamsize>(body.size()));
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> lines;
+  std::vector<vtkSmartPointer<vtkFloatArray>> scalarArrays(scalars), propertyArrays(properties);
+  for (int s = 0; s < scalars; ++s)
+  {
+    scalarArrays[s] = vtkSmartPointer<vtkFloatArray>::New();
+    scalarArrays[s]->SetName(FieldName(header + 38 + 20 * s, "scalar_" + std::to_string(s)).c_str());
+  }
+  for (int p = 0; p < properties; ++p)
+  {
+    propertyArrays[p] = vtkSmartPointer<vtkFloatArray>::New();
+    propertyArrays[p]->SetName(FieldName(header + 240 + 20 * p, "property_" + std::to_string(p)).c_str());
+  }
+  const std::size_t pointBytes = 4u * (3u + scalars);
+  std::size_t at = 0;
+  std::vector<vtkIdType> ids;
+  bool cut = false;
+  while (at + 4 <= body.size())
+  {
+    const std::int32_t count = decode.Get<std::int32_t>(body.data() + at);
+    if (count < 0)
+    {
+      vtkErrorMacro(<< "'" << name << "': streamline " << lines->GetNumberOfCells()
+                    << " has the negative point count " << count << ".");
+      return 0;
+    }
+    const std::size_t bytes = 4 + count * pointBytes + 4u * properties;
+    if (at + bytes > body.size())
+    {
+      cut = true;
+      break;
+    }
+    ids.resize(count);
+    const char* data = body.data() + at + 4;
+    for (std::int32_t k = 0; k < count; ++k)
+    {
+      const char* point = data + k * pointBytes;
+      double p[4] = { decode.Get<float>(point), decode.Get<float>(point + 4),
+        decode.Get<float>(point + 8), 1.0 };
+      if (!this->CoordinatesVoxmm)
+      {
+        this->VoxmmToRAS->MultiplyPoint(p, p);
+      }
+      ids[k] = points->InsertNextPoint(p);
+      for (int s = 0; s < scalars; ++s)
+      {
+        scalarArrays[s]->InsertNextValue(decode.Get<float>(point + 12 + 4 * s));
+      }
+    }
+    for (int q = 0; q < properties; ++q)
+    {
+      propertyArrays[q]->InsertNextValue(decode.Get<float>(data + count * pointBytes + 4 * q));
+    }
+    lines->InsertNextCell(count, ids.data());
+    at += bytes;
+  }
+  if (cut || at != body.size())
+  {
+    vtkWarningMacro(<< "'" << name << "' ends inside streamline " << lines->GetNumberOfCells()
+                    << " (cut short?); the " << lines->GetNumberOfCells()
+                    << " complete streamlines are kept.");
+  }
+  const std::int32_t expected = decode.Get<std::int32_t>(header + 988);
+  if (expected > 0 && expected != lines->GetNumberOfCells())
+  {
+    vtkWarningMacro(<< "'" << name << "': the header's n_count is " << expected << " but "
+                    << lines->GetNumberOfCells() << " streamlines were read.");
+  }
+  output->SetPoints(points);
+  output->SetLines(lines);
+  for (auto& array : scalarArrays)
+  {
+    output->GetPointData()->AddArray(array);
+  }
+  for (auto& array : propertyArrays)
+  {
+    output->GetCellData()->AddArray(array);
+  }
+  return 1;
+}
+
+void vtkSightlineTrackVisReader::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "CoordinatesVoxmm: " << this->CoordinatesVoxmm << "\n";
+  os << indent << "VoxelOrder: " << this->VoxelOrder << "\n";
+  os << indent << "VoxmmToRAS:\n";
+  this->VoxmmToRAS->PrintSelf(os, indent.GetNextIndent());
+}

@@ -1,0 +1,76 @@
+/**
+ * @class   vtkSightlineTrackVisReader
+ * @brief   Reads TrackVis streamlines (.trk, versions 1 and 2) into vtkPolyData polylines.
+ *
+ * The 1000-byte header gives the voxel size, the voxel order (e.g. "LAS"), the voxel-to-RAS
+ * matrix (version 2) and the names of per-point scalars and per-streamline properties; each
+ * streamline is a point count, the points (x y z and the scalars) and the properties. Both
+ * byte orders are read (the header size, 1000, tells which).
+ *
+ * TrackVis stores points in "voxmm" (voxel coordinates times the voxel size, origin at the
+ * corner of the first voxel). By default they are mapped to RAS mm the way nibabel and DIPY
+ * do: to voxel centres, through the flips between the header's voxel order and the matrix's
+ * orientation, then through the voxel-to-RAS matrix (identity when the file has none, voxel
+ * order LPS when it has none, TrackVis' defaults). CoordinatesVoxmm keeps the raw values.
+ *
+ * Output: one polyline per streamline; per-point scalars and per-cell properties as arrays
+ * named from the header ("scalar_<i>" / "property_<i>" when unnamed). Errors: a missing file,
+ * no "TRACK" id, a header size that is not 1000 in either byte order, a negative point count,
+ * a file cut inside a streamline (the complete ones are kept, with a warning).
+ */
+#ifndef vtkSightlineTrackVisReader_h
+#define vtkSightlineTrackVisReader_h
+
+#include "SightlineIOModule.h" // for export macro
+#include "vtkNew.h"            // for vtkNew
+#include "vtkPolyDataAlgorithm.h"
+
+class vtkMatrix4x4;
+
+class SIGHTLINEIO_EXPORT vtkSightlineTrackVisReader : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkSightlineTrackVisReader* New();
+  vtkTypeMacro(vtkSightlineTrackVisReader, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  vtkSetStringMacro(FileName);
+  vtkGetStringMacro(FileName);
+
+  /**
+   * Keep TrackVis' voxmm coordinates instead of mapping them to RAS mm. Default off.
+   */
+  vtkSetMacro(CoordinatesVoxmm, bool);
+  vtkGetMacro(CoordinatesVoxmm, bool);
+  vtkBooleanMacro(CoordinatesVoxmm, bool);
+
+  /**
+   * The map from voxmm to RAS mm of the last read (identity before the first).
+   */
+  vtkMatrix4x4* GetVoxmmToRASMatrix() { return this->VoxmmToRAS; }
+
+  /**
+   * The header's voxel order of the last read (e.g. "LAS").
+   */
+  const char* GetVoxelOrder() { return this->VoxelOrder; }
+
+  static int CanReadFile(const char* fileName);
+
+protected:
+  vtkSightlineTrackVisReader();
+  ~vtkSightlineTrackVisReader() override;
+
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+  char* FileName = nullptr;
+  bool CoordinatesVoxmm = false;
+  vtkNew<vtkMatrix4x4> VoxmmToRAS;
+  char VoxelOrder[4] = { 0, 0, 0, 0 };
+
+private:
+  vtkSightlineTrackVisReader(const vtkSightlineTrackVisReader&) = delete;
+  void operator=(const vtkSightlineTrackVisReader&) = delete;
+};
+
+#endif

@@ -1,0 +1,71 @@
+"""The streamline readers against nibabel, the independent reference, on real files that ship
+with Debian: nibabel's standard.trk (voxel order RAS), standard.LPS.trk (LPS: flipped axes) and
+standard.tck, and DIPY's minimal_bundles.zip (TrackVis bundles of five subjects). Every point
+must agree in RAS mm, every streamline's length too; and an SWC file reads from Python."""
+import os
+import tempfile
+import unittest
+import zipfile
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+import sightline
+
+NIBABEL_DATA = "/usr/lib/python3/dist-packages/nibabel/tests/data"
+BUNDLES = "/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip"
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def read(path):
+    reader = (sightline.vtkSightlineTCKReader() if path.endswith(".tck")
+              else sightline.vtkSightlineTrackVisReader())
+    reader.SetFileName(path)
+    reader.Update()
+    output = reader.GetOutput()
+    points = vtk_to_numpy(output.GetPoints().GetData()).astype(float)
+    lengths = [output.GetCell(i).GetNumberOfPoints() for i in range(output.GetNumberOfCells())]
+    return points, lengths
+
+
+class TrackReaders(unittest.TestCase):
+    def compare(self, path):
+        import nibabel as nib
+        reference = nib.streamlines.load(path).streamlines
+        points, lengths = read(path)
+        self.assertEqual(lengths, [len(s) for s in reference], path)
+        expected = np.concatenate(list(reference)).astype(float)
+        self.assertEqual(points.shape, expected.shape)
+        # float32 in the files: agreement to rounding.
+        self.assertLess(np.abs(points - expected).max(), 1e-4 * (1 + np.abs(expected).max()), path)
+
+    def test_nibabel_standard_files(self):
+        for name in ("standard.trk", "standard.LPS.trk", "standard.tck"):
+            path = os.path.join(NIBABEL_DATA, name)
+            if not os.path.exists(path):
+                self.skipTest(f"{path} missing (Debian package python3-nibabel)")
+            self.compare(path)
+
+    def test_dipy_bundles(self):
+        if not os.path.exists(BUNDLES):
+            self.skipTest(f"{BUNDLES} missing (Debian package python3-dipy)")
+        with tempfile.TemporaryDirectory() as folder:
+            with zipfile.ZipFile(BUNDLES) as archive:
+                archive.extractall(folder)
+            for subject in (1, 3):
+                for bundle in ("AF_L", "CST_R", "CC_ForcepsMajor"):
+                    self.compare(os.path.join(folder, f"sub_{subject}", f"{bundle}.trk"))
+
+    def test_swc_from_python(self):
+        reader = sightline.vtkSightlineSWCReader()
+        reader.SetFileName(os.path.join(HERE, os.pardir, "Data", "SWC", "neuron_three_point_soma.swc"))
+        reader.Update()
+        output = reader.GetOutput()
+        self.assertEqual(output.GetNumberOfPoints(), 12)
+        parents = vtk_to_numpy(output.GetPointData().GetArray("ParentIndex"))
+        self.assertEqual(list(parents[:4]), [-1, 0, 0, 0])
+        self.assertEqual(reader.GetNumberOfBranchPoints(), 3)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,195 @@
+#include "vtkSightlineTubeMapper.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
+#include "vtkIdList.h"
+#include "vtkInformation.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkUnsignedCharArray.h"
+
+#include "sightline/TubeSet.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <vector>
+
+vtkStandardNewMacro(vtkSightlineTubeMapper);
+
+vtkSightlineTubeMapper::vtkSightlineTubeMapper() = default;
+
+vtkSightlineTubeMapper::~vtkSightlineTubeMapper()
+{
+  this->SetRadiusArrayName(nullptr);
+  this->SetPredecessorArrayName(nullptr);
+}
+
+int vtkSightlineTubeMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+int vtkSightlineTubeMapper::GetVaryRadius()
+{
+  if (this->VaryRadius >= 0)
+  {
+    return this->VaryRadius;
+  }
+  return this->RadiusArrayName && *this->RadiusArrayName ? VARY_RADIUS_BY_ABSOLUTE_SCALAR
+                                                         : VARY_RADIUS_OFF;
+}
+
+std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
+{
+  this->NumberOfLinks = 0;
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetInputDataObject(0, 0));
+  const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
+  if (count == 0)
+  {
+    vtkWarningMacro(<< "The input has no points: there are no tubes to render.");
+    return nullptr;
+  }
+
+  // Radius per input point.
+  std::vector<float> radius(count, static_cast<float>(this->Radius));
+  const int vary = this->GetVaryRadius();
+  if (vary != VARY_RADIUS_OFF)
+  {
+    const bool named = this->RadiusArrayName && *this->RadiusArrayName;
+    vtkDataArray* array =
+      named ? input->GetPointData()->GetArray(this->RadiusArrayName) : input->GetPointData()->GetScalars();
+    if (!array || array->GetNumberOfComponents() != 1 || array->GetNumberOfTuples() != count)
+    {
+      vtkErrorMacro(<< "The radius array "
+                    << (named ? "'" + std::string(this->RadiusArrayName) + "'" : std::string("(active scalars)"))
+                    << (!array ? " is not in the input's point data"
+                               : " needs one component and one value per point")
+                    << "; no tubes rendered.");
+      return nullptr;
+    }
+    double range[2];
+    array->GetRange(range, 0);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      const double v = array->GetComponent(i, 0);
+      radius[i] = static_cast<float>(vary == VARY_RADIUS_BY_ABSOLUTE_SCALAR
+          ? v * this->RadiusScale
+          : this->Radius *
+            (1.0 + (this->RadiusFactor - 1.0) * (range[1] > range[0] ? (v - range[0]) / (range[1] - range[0]) : 0.0)));
+    }
+  }
+  else if (!(std::isfinite(this->Radius) && this->Radius >= 0.0))
+  {
+    vtkErrorMacro(<< "Radius must be non-negative and finite, got " << this->Radius
+                  << "; no tubes rendered.");
+    return nullptr;
+  }
+
+  std::vector<std::uint32_t> pointColors;
+  if (this->ScalarVisibility)
+  {
+    int cellFlag = 0;
+    vtkUnsignedCharArray* mapped = this->MapScalars(input, 1.0, cellFlag);
+    if (mapped && !cellFlag && mapped->GetNumberOfTuples() == count && mapped->GetNumberOfComponents() >= 3)
+    {
+      const int n = mapped->GetNumberOfComponents();
+      pointColors.resize(count);
+      for (vtkIdType i = 0; i < count; ++i)
+      {
+        const unsigned char* c = mapped->GetPointer(i * n);
+        pointColors[i] = sightline::packRGBA8(c[0], c[1], c[2], n > 3 ? c[3] : 255);
+      }
+    }
+  }
+
+  // Control points and their predecessors: the input's points with the predecessor array, or a
+  // copy of each polyline's points (a point may be interior to several polylines).
+  std::vector<sightline::vec3> points;
+  std::vector<float> radii;
+  std::vector<std::int64_t> predecessors;
+  std::vector<std::uint32_t> colors;
+  auto add = [&](vtkIdType id, std::int64_t predecessor)
+  {
+    double p[3];
+    input->GetPoint(id, p);
+    points.emplace_back(p[0], p[1], p[2]);
+    radii.push_back(radius[id]);
+    predecessors.push_back(predecessor);
+    if (!pointColors.empty())
+    {
+      colors.push_back(pointColors[id]);
+    }
+  };
+  if (this->PredecessorArrayName && *this->PredecessorArrayName)
+  {
+    vtkDataArray* array = input->GetPointData()->GetArray(this->PredecessorArrayName);
+    if (!array || array->GetNumberOfComponents() != 1 || array->GetNumberOfTuples() != count)
+    {
+      vtkErrorMacro(<< "The predecessor array '" << this->PredecessorArrayName << "' "
+                    << (!array ? "is not in the input's point data"
+                               : "needs one component and one value per point")
+                    << "; no tubes rendered.");
+      return nullptr;
+    }
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      const double v = array->GetComponent(i, 0);
+      add(i, std::isfinite(v) ? static_cast<std::int64_t>(v) : std::int64_t(count));
+    }
+  }
+  else
+  {
+    vtkPolyData* poly = vtkPolyData::SafeDownCast(input);
+    vtkCellArray* lines = poly ? poly->GetLines() : nullptr;
+    if (!lines || lines->GetNumberOfCells() == 0)
+    {
+      vtkErrorMacro(<< "The input has no polylines; give vtkPolyData lines or set "
+                       "PredecessorArrayName to a point array of predecessor indices.");
+      return nullptr;
+    }
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < lines->GetNumberOfCells(); ++c)
+    {
+      lines->GetCellAtId(c, ids);
+      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+      {
+        add(ids->GetId(k), k == 0 ? -1 : std::int64_t(points.size()) - 1);
+      }
+    }
+  }
+
+  try
+  {
+    auto tubes = std::make_shared<sightline::TubeSet>(points, radii, predecessors, colors);
+    for (const std::string& reason : tubes->report().reasons)
+    {
+      vtkWarningMacro(<< reason << ".");
+    }
+    this->NumberOfLinks = static_cast<vtkIdType>(tubes->size());
+    return tubes;
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "Could not build the tubes: " << e.what());
+    return nullptr;
+  }
+}
+
+void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)") << "\n";
+  os << indent << "VaryRadius: " << this->GetVaryRadius() << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "RadiusFactor: " << this->RadiusFactor << "\n";
+  os << indent << "PredecessorArrayName: "
+     << (this->PredecessorArrayName ? this->PredecessorArrayName : "(polylines)") << "\n";
+  os << indent << "NumberOfLinks: " << this->NumberOfLinks << "\n";
+}

@@ -1,0 +1,117 @@
+/**
+ * @class   vtkSightlineTubeMapper
+ * @brief   Ray-traces generalized tubes: spheres at the points joined by tangential cone stumps.
+ *
+ * The tube through points with radii is the union of their spheres and, for every link, the
+ * cone stump tangent to both spheres (Han et al. 2019): exact silhouettes and depth, varying
+ * radius, bifurcations without seams. Input (vtkPolyData or any vtkPointSet):
+ * - polylines: every line cell is a tube through its points (points shared by several cells,
+ *   e.g. a branch point, are joined into each);
+ * - or, with PredecessorArrayName set (e.g. "ParentIndex" of vtkSightlineSWCReader), each point
+ *   linked to the point whose index the array gives (-1: none); bifurcations are points named by
+ *   several others. Cyclic links and indices out of range are errors.
+ *
+ * Radius: the constant Radius, or from a point array (RadiusArrayName, or the active scalars)
+ * as vtkTubeFilter's VaryRadius modes do: VARY_RADIUS_BY_ABSOLUTE_SCALAR (radius = value times
+ * RadiusScale; the default when an array is named) or VARY_RADIUS_BY_SCALAR (Radius at the
+ * array's minimum up to Radius times RadiusFactor at its maximum). Points with a negative or
+ * non-finite radius or position are dropped with their links, with a warning.
+ *
+ * Colour: VTK's scalar colouring per point (ScalarVisibility, lookup table) or the actor's.
+ * This is the opaque path: opacity below 1 is drawn opaque (interior surfaces of overlapping
+ * links are not removed yet).
+ *
+ * @sa vtkSightlineSWCReader vtkSightlineTrackVisReader vtkSightlineTCKReader vtkTubeFilter
+ */
+#ifndef vtkSightlineTubeMapper_h
+#define vtkSightlineTubeMapper_h
+
+#include "SightlineRenderingModule.h" // for export macro
+#include "vtkSightlineMapper.h"
+
+class SIGHTLINERENDERING_EXPORT vtkSightlineTubeMapper : public vtkSightlineMapper
+{
+public:
+  static vtkSightlineTubeMapper* New();
+  vtkTypeMacro(vtkSightlineTubeMapper, vtkSightlineMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Radius without an array, and the base radius of VARY_RADIUS_BY_SCALAR. Default 1.
+   */
+  vtkSetMacro(Radius, double);
+  vtkGetMacro(Radius, double);
+
+  /**
+   * Point array of radii (or of the scalar mapped to radius); null: the active point scalars
+   * when VaryRadius is not off. Default null.
+   */
+  vtkSetStringMacro(RadiusArrayName);
+  vtkGetStringMacro(RadiusArrayName);
+
+  enum VaryRadiusModes
+  {
+    VARY_RADIUS_OFF = 0,
+    VARY_RADIUS_BY_SCALAR,
+    VARY_RADIUS_BY_ABSOLUTE_SCALAR
+  };
+
+  /**
+   * How the radius array sets the radius (vtkTubeFilter's modes). Default
+   * VARY_RADIUS_BY_ABSOLUTE_SCALAR when RadiusArrayName is set, else VARY_RADIUS_OFF.
+   */
+  vtkSetClampMacro(VaryRadius, int, VARY_RADIUS_OFF, VARY_RADIUS_BY_ABSOLUTE_SCALAR);
+  void SetVaryRadiusToVaryRadiusOff() { this->SetVaryRadius(VARY_RADIUS_OFF); }
+  void SetVaryRadiusToVaryRadiusByScalar() { this->SetVaryRadius(VARY_RADIUS_BY_SCALAR); }
+  void SetVaryRadiusToVaryRadiusByAbsoluteScalar()
+  {
+    this->SetVaryRadius(VARY_RADIUS_BY_ABSOLUTE_SCALAR);
+  }
+  int GetVaryRadius();
+
+  /**
+   * VARY_RADIUS_BY_ABSOLUTE_SCALAR: factor on the array's values. Default 1.
+   */
+  vtkSetMacro(RadiusScale, double);
+  vtkGetMacro(RadiusScale, double);
+
+  /**
+   * VARY_RADIUS_BY_SCALAR: largest radius over Radius. Default 10 (as vtkTubeFilter).
+   */
+  vtkSetMacro(RadiusFactor, double);
+  vtkGetMacro(RadiusFactor, double);
+
+  /**
+   * Point array of predecessor indices (-1: none) instead of the polylines. Default null.
+   */
+  vtkSetStringMacro(PredecessorArrayName);
+  vtkGetStringMacro(PredecessorArrayName);
+
+  /**
+   * Links (control points) of the last build.
+   */
+  vtkGetMacro(NumberOfLinks, vtkIdType);
+
+protected:
+  vtkSightlineTubeMapper();
+  ~vtkSightlineTubeMapper() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+#ifndef __VTK_WRAP__
+  std::shared_ptr<sightline::Geometry> BuildGeometry() override;
+#endif
+
+  double Radius = 1.0;
+  char* RadiusArrayName = nullptr;
+  int VaryRadius = -1; ///< -1: by the array when one is named
+  double RadiusScale = 1.0;
+  double RadiusFactor = 10.0;
+  char* PredecessorArrayName = nullptr;
+  vtkIdType NumberOfLinks = 0;
+
+private:
+  vtkSightlineTubeMapper(const vtkSightlineTubeMapper&) = delete;
+  void operator=(const vtkSightlineTubeMapper&) = delete;
+};
+
+#endif

@@ -1,7 +1,8 @@
 """The streamline readers against nibabel, the independent reference, on real files that ship
 with Debian: nibabel's standard.trk (voxel order RAS), standard.LPS.trk (LPS: flipped axes) and
 standard.tck, and DIPY's minimal_bundles.zip (TrackVis bundles of five subjects). Every point
-must agree in RAS mm, every streamline's length too; and an SWC file reads from Python."""
+must agree in RAS mm, every streamline's length too; and an SWC file reads from Python and its
+neuron renders with the tube mapper."""
 import os
 import tempfile
 import unittest
@@ -65,6 +66,30 @@ class TrackReaders(unittest.TestCase):
         parents = vtk_to_numpy(output.GetPointData().GetArray("ParentIndex"))
         self.assertEqual(list(parents[:4]), [-1, 0, 0, 0])
         self.assertEqual(reader.GetNumberOfBranchPoints(), 3)
+
+    def test_tube_mapper_draws_the_neuron_without_opengl(self):
+        import vtk
+        reader = sightline.vtkSightlineSWCReader()
+        reader.SetFileName(os.path.join(HERE, os.pardir, "Data", "SWC", "neuron_three_point_soma.swc"))
+        tubes = sightline.vtkSightlineTubeMapper()
+        tubes.SetInputConnection(reader.GetOutputPort())
+        tubes.SetRadiusArrayName("Radius")
+        tubes.SetPredecessorArrayName("ParentIndex")
+        actor = vtk.vtkActor()
+        actor.SetMapper(tubes)
+        camera = vtk.vtkCamera()
+        camera.SetFocalPoint(-2, 2, 0)
+        camera.SetPosition(-2, -20, 45)
+        batch = sightline.vtkSightlineImageRenderer()
+        batch.AddActor(actor)
+        batch.SetActiveCamera(camera)
+        batch.SetSize(160, 120)
+        batch.Update()
+        rgba = vtk_to_numpy(batch.GetOutput().GetPointData().GetScalars())
+        self.assertEqual(tubes.GetNumberOfLinks(), 12)
+        covered = (rgba[:, :3].sum(axis=1) > 0).sum() # the background is black
+        self.assertGreater(covered, 1500)
+        self.assertLess(covered, 0.5 * len(rgba))
 
 
 if __name__ == "__main__":

@@ -242,7 +242,7 @@ int vtkSightlineSWCReader::RequestData(
 
   // Points and arrays.
   vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
+  points->SetDataType(VTK_DOUBLE); // SWC coordinates keep their precision
   points->SetNumberOfPoints(n);
   vtkNew<vtkFloatArray> radius;
   radius->SetName("Radius");

@@ -181,14 +181,44 @@ TEST(TubeLink, TangentCirclesAndNormals)
   EXPECT_FALSE(makeConeStump(dvec3(1), 1.0, dvec3(1), 1.0).valid);
 }
 
-TEST(TubeSet, BifurcationThroughEmbreeAndBadInput)
+const TubeLayout kLayouts[] = {
+  { TubeLayout::Primitives::Combined, TubeLayout::Transforms::OnTheFly },
+  { TubeLayout::Primitives::Combined, TubeLayout::Transforms::Precomputed },
+  { TubeLayout::Primitives::Separate, TubeLayout::Transforms::OnTheFly },
+  { TubeLayout::Primitives::Separate, TubeLayout::Transforms::Precomputed },
+};
+
+class TubeLayouts : public ::testing::TestWithParam<int>
 {
-  // A Y: a trunk and two branches from point 1, radii shrinking.
-  const std::vector<vec3> points = { vec3(0, 0, 0), vec3(0, 2, 0), vec3(-1.5, 4, 0), vec3(1.5, 4, 0) };
-  const std::vector<float> radii = { 0.6f, 0.5f, 0.25f, 0.3f };
-  const std::vector<std::int64_t> predecessors = { -1, 0, 1, 1 };
-  auto tubes = std::make_shared<TubeSet>(points, radii, predecessors);
-  ASSERT_EQ(tubes->size(), 4u);
+protected:
+  TubeLayout layout() const { return kLayouts[GetParam()]; }
+};
+INSTANTIATE_TEST_SUITE_P(AllFour, TubeLayouts, ::testing::Range(0, 4),
+  [](const ::testing::TestParamInfo<int>& info)
+  {
+    std::string name = kLayouts[info.param].name();
+    std::string out;
+    for (char c : name)
+      if (std::isalnum(static_cast<unsigned char>(c)))
+        out += c;
+    return out;
+  });
+
+// A Y: a trunk and two branches from point 1, radii shrinking; plus a short stub whose sphere
+// holds its predecessor's (no stump).
+const std::vector<vec3> kY = { vec3(0, 0, 0), vec3(0, 2, 0), vec3(-1.5, 4, 0), vec3(1.5, 4, 0) };
+const std::vector<float> kYRadii = { 0.6f, 0.5f, 0.25f, 0.3f };
+const std::vector<std::int64_t> kYPredecessors = { -1, 0, 1, 1 };
+
+TEST_P(TubeLayouts, BifurcationThroughEmbree)
+{
+  const std::vector<vec3>& points = kY;
+  const std::vector<float>& radii = kYRadii;
+  const std::vector<std::int64_t>& predecessors = kYPredecessors;
+  auto tubes = std::make_shared<TubeSet>(points, radii, predecessors, std::vector<std::uint32_t>{}, layout());
+  EXPECT_EQ(tubes->pointCount(), 4u);
+  EXPECT_EQ(tubes->linkCount(), 3u);
+  EXPECT_EQ(tubes->size(), layout().primitives == TubeLayout::Primitives::Combined ? 4u : 7u);
   EmbreeScene scene;
   scene.add(tubes);
   scene.commit();
@@ -218,9 +248,17 @@ TEST(TubeSet, BifurcationThroughEmbreeAndBadInput)
     }
     ++hits;
     ASSERT_TRUE(hit) << "ray " << r;
+    // Precomputed stumps are stored in single precision.
     EXPECT_NEAR(rh.ray.tfar, best, 2e-5) << "ray " << r;
   }
   EXPECT_GT(hits, 100);
+}
+
+TEST(TubeSet, BadInput)
+{
+  const std::vector<vec3>& points = kY;
+  const std::vector<float>& radii = kYRadii;
+  const std::vector<std::int64_t>& predecessors = kYPredecessors;
 
   // Bad input: cycles, predecessors out of range, sizes; bad radii are dropped and reported.
   EXPECT_THROW(TubeSet(points, radii, { 1, 2, 3, 1 }), std::invalid_argument);

@@ -70,6 +70,10 @@ public:
   /// (see Geometry::insideLength); `firstEntry` receives where the ray first enters one.
   double insideLength(const Ray& ray, float& firstEntry) const;
 
+  /// Appends the inside intervals (Geometry::insideIntervals) of every primitive whose box the
+  /// ray segment [tnear, tfar] crosses; the intervals themselves are not clipped.
+  void insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const;
+
 private:
   std::shared_ptr<EmbreeDevice> Device;
   RTCScene Scene = nullptr;

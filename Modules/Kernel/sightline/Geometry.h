@@ -29,6 +29,35 @@ struct SurfaceHit
   vec3 normal{ 0.0f }; ///< not necessarily unit length nor facing the ray
 };
 
+/// Where a ray's line is inside one solid part of a primitive: [t0, t1], not clipped to the
+/// ray's [tnear, tfar] (t0 is below tnear when the ray starts inside). `part` names the solid
+/// for its normal and colour (Geometry::partNormal), `primitive` the Embree primitive.
+struct InsideInterval
+{
+  double t0, t1;
+  std::uint32_t primitive;
+  std::uint32_t part;
+  std::uint32_t geometry = 0; ///< Embree geometry id, filled in by the scene
+};
+
+/// A surface of a union of solids along a ray: where the ray enters or leaves the union.
+struct UnionSurface
+{
+  double t;
+  bool entering;
+  std::uint32_t part;     ///< the solid whose surface this is
+  std::uint32_t geometry; ///< and its geometry
+};
+
+/// The surfaces of the union of `intervals` strictly inside (tnear, tfar), front to back
+/// (Han et al. 2019, Section 4.3.1). Counting entries and exits along the sorted intervals,
+/// the union's surfaces are the 0 -> 1 and 1 -> 0 transitions; a sweep that keeps the
+/// farthest exit seen is the same count, and a solid reported twice (as an Embree filter may)
+/// changes nothing. Intervals that overlap or touch within `gap` merge (no interior surface).
+/// Sorts `intervals` in place.
+void unionSurfaces(std::vector<InsideInterval>& intervals, double tnear, double tfar, double gap,
+  std::vector<UnionSurface>& out);
+
 /// Abstract base of everything the renderer can trace.
 class Geometry
 {
@@ -57,6 +86,17 @@ public:
   {
     return 0.0;
   }
+  /// Geometries drawn as unions of solids when translucent (RenderOptions::translucent):
+  /// append the intervals where the ray's whole line is inside `primitive`'s solids.
+  /// The default has no inside.
+  virtual void insideIntervals(unsigned /*primitive*/, const Ray& /*ray*/,
+    std::vector<InsideInterval>& /*out*/) const
+  {
+  }
+  /// Outward (not necessarily unit) normal of a solid part at a point on its surface.
+  virtual vec3 partNormal(std::uint32_t /*part*/, const vec3& /*point*/) const { return vec3(0.0f); }
+  /// Colour of a solid part; only called when hasPrimitiveColors().
+  virtual vec3 partColor(std::uint32_t /*part*/) const { return vec3(1.0f); }
   /// Bytes the geometry itself holds (the BVH is counted by the scene).
   virtual std::size_t memoryBytes() const = 0;
   /// Bounds of all primitives (empty box when there are none).
@@ -65,14 +105,19 @@ public:
   Material material;
 };
 
-/// Embree context of every trace. In a volume query the user geometries do not report hits:
-/// Embree then visits every box along the ray and each primitive adds the length the ray
-/// spends inside it.
+/// Embree context of every trace. In a volume or union query the user geometries do not report
+/// hits: Embree then visits every box along the ray and each primitive adds the length the ray
+/// spends inside it, or its inside intervals. (This is the multi-hit traversal the paper builds
+/// from intersection filters; in a user geometry the intersect callback already sees every
+/// candidate, so no filter function and no rtcFilterIntersection round trip is needed.)
 struct TraceContext
 {
   RTCIntersectContext embree; ///< first member, so Embree's pointer is also ours
   bool volumeQuery = false;
   double insideLength = 0.0;
+  /// Union query (translucent tubes): when set, primitives append their inside intervals here
+  /// instead of reporting hits, so Embree visits every box along the ray.
+  std::vector<InsideInterval>* intervals = nullptr;
   float firstEntry = kInfinity;
 };
 
@@ -129,6 +174,14 @@ private:
     {
       if (args->valid[i] != -1)
         continue;
+      if (trace->intervals)
+      {
+        const std::size_t before = trace->intervals->size();
+        self->insideIntervals(args->primID, loadRay(rays, args->N, i), *trace->intervals);
+        for (std::size_t k = before; k < trace->intervals->size(); ++k)
+          (*trace->intervals)[k].geometry = args->geomID;
+        continue;
+      }
       if (trace->volumeQuery)
       {
         float entry = kInfinity;

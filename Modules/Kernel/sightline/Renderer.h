@@ -39,10 +39,27 @@ struct VolumeOptions
   vec3 emission{ 0.5f };
 };
 
+/// Translucent unions of solids (Han et al. 2019, Section 4.3: generalized tubes) drawn over the
+/// opaque surfaces. Along each pixel's ray, up to the first opaque surface, the inside intervals
+/// of every primitive (Geometry::insideIntervals) are collected, and only the surfaces of their
+/// union are shaded and composited front to back, each with its geometry material's opacity:
+/// overlapping solids show no interior surfaces. Rays that start inside a solid see its exit
+/// only. Translucent surfaces cast no shadows.
+struct TranslucentOptions
+{
+  const EmbreeScene* scene = nullptr; ///< committed scene of union geometries, or null
+  /// Compositing stops once the accumulated opacity reaches this: the rest cannot show.
+  float saturation = 0.996f;
+};
+
 struct RenderOptions
 {
   ShadowOptions shadows;
   VolumeOptions volumes;
+  TranslucentOptions translucent;
+  /// Window depth of opaque geometry drawn by someone else (e.g. read back from OpenGL), one
+  /// per pixel of the camera, bottom row first; rays stop there. Null for none.
+  const std::vector<float>* depthLimit = nullptr;
   /// Tiles are the unit of parallel work; 16x16 pixels keep rays coherent.
   int tileSize = 16;
   /// Transform from the scene's coordinates to world coordinates (a VTK actor's matrix).
@@ -60,6 +77,7 @@ struct RenderStatistics
   double seconds = 0.0;
   std::size_t hits = 0;
   std::size_t shadowRays = 0;
+  std::size_t translucentSurfaces = 0; ///< union surfaces composited (translucent scenes)
   bool completed = true;
 };
 

@@ -177,4 +177,13 @@ double EmbreeScene::insideLength(const Ray& ray, float& firstEntry) const
   firstEntry = context.firstEntry;
   return context.insideLength;
 }
+
+void EmbreeScene::insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const
+{
+  RTCRayHit rh = makeRayHit(ray);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.intervals = &out;
+  rtcIntersect1(Scene, &context.embree, &rh);
+}
 } // namespace sightline

@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -9,6 +10,8 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
+#include <string>
 
 namespace sightline
 {
@@ -25,6 +28,8 @@ struct FrameContext
   glm::mat3 normalToWorld;
   glm::dmat3 worldToObjectDirection;
   bool identityTransform;
+  /// Translucent unions: intervals this close count as touching (no interior surface).
+  double unionGap;
 };
 
 constexpr int kMaxShadowedLights = 16;
@@ -107,18 +112,97 @@ void lightVisibility(const FrameContext& frame, const dvec3& point, const vec3& 
     visibility[i] = 1.0f;
 }
 
-/// Traces the primary ray of pixel (x, y); returns whether it hit.
-bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, std::size_t& shadowRays)
+/// Per-thread scratch and counters.
+struct PixelScratch
 {
-  const Ray ray = frame.camera.primaryRay(x + 0.5, y + 0.5);
+  std::size_t shadowRays = 0;
+  std::size_t translucentSurfaces = 0;
+  std::vector<InsideInterval> intervals;
+  std::vector<UnionSurface> surfaces;
+};
+
+/// Unit normal facing the viewer (two-sided lighting, as VTK's default) in scene and world
+/// coordinates, and the direction to the viewer in world coordinates.
+struct ShadingFrame
+{
+  vec3 objectNormal, normal, toViewer;
+};
+
+ShadingFrame orientNormal(const FrameContext& frame, vec3 objectNormal, const vec3& direction)
+{
+  ShadingFrame s;
+  objectNormal = glm::normalize(objectNormal);
+  if (glm::dot(objectNormal, direction) > 0.0f)
+    objectNormal = -objectNormal;
+  s.objectNormal = s.normal = objectNormal;
+  s.toViewer = -direction;
+  if (!frame.identityTransform)
+  {
+    s.normal = glm::normalize(frame.normalToWorld * s.normal);
+    s.toViewer = glm::normalize(vec3(frame.objectToWorld * dvec4(dvec3(s.toViewer), 0.0)));
+  }
+  return s;
+}
+
+/// Composites the union surfaces of the translucent scene in (ray.tnear, ray.tfar) front to
+/// back over `color` (not premultiplied); returns the nearest surface's t, or infinity.
+float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& color, PixelScratch& scratch)
+{
+  const EmbreeScene& scene = *frame.options.translucent.scene;
+  scratch.intervals.clear();
+  scene.insideIntervals(ray, scratch.intervals);
+  if (scratch.intervals.empty())
+    return kInfinity;
+  unionSurfaces(scratch.intervals, ray.tnear, ray.tfar, frame.unionGap, scratch.surfaces);
+  vec3 premultiplied(0.0f);
+  float alpha = 0.0f;
+  float nearest = kInfinity;
+  for (const UnionSurface& surface : scratch.surfaces)
+  {
+    const Geometry& geometry = scene.geometry(surface.geometry);
+    const vec3 point = vec3(dvec3(ray.origin) + surface.t * dvec3(ray.direction));
+    const ShadingFrame s = orientNormal(frame, geometry.partNormal(surface.part, point), ray.direction);
+    const Material& m = geometry.material;
+    vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
+    if (geometry.hasPrimitiveColors())
+      ambientColor = diffuseColor = geometry.partColor(surface.part);
+    const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
+    premultiplied += (1.0f - alpha) * m.opacity * rgb;
+    alpha += (1.0f - alpha) * m.opacity;
+    nearest = std::min(nearest, float(surface.t));
+    ++scratch.translucentSurfaces;
+    if (alpha >= frame.options.translucent.saturation)
+      break;
+  }
+  const float total = alpha + (1.0f - alpha) * color.a;
+  if (total > 0.0f)
+    color = vec4((premultiplied + (1.0f - alpha) * color.a * vec3(color)) / total, total);
+  return nearest;
+}
+
+/// Traces the primary ray of pixel (x, y); returns whether it hit an opaque surface.
+bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, PixelScratch& scratch)
+{
+  Ray ray = frame.camera.primaryRay(x + 0.5, y + 0.5);
+  const std::size_t i = fb.index(x, y);
+  if (frame.options.depthLimit)
+  {
+    // Stop at opaque geometry drawn by someone else (direction is unit: t is a distance).
+    const float limit = (*frame.options.depthLimit)[i];
+    if (limit < 1.0f)
+    {
+      const dvec3 stop = frame.camera.unproject(x + 0.5, y + 0.5, limit);
+      ray.tfar = std::max(ray.tnear, float(glm::dot(stop - dvec3(ray.origin), dvec3(ray.direction))));
+    }
+  }
   RTCRayHit rh = makeRayHit(ray);
-  const bool hit = frame.scene.intersect(rh, true);
+  const bool hit = !frame.scene.empty() && frame.scene.intersect(rh, true);
   const VolumeOptions& volumes = frame.options.volumes;
   const bool withVolumes = volumes.scene && !volumes.scene->empty();
-  if (!hit && !withVolumes)
+  const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
+  if (!hit && !withVolumes && !withTranslucent)
     return false;
 
-  const std::size_t i = fb.index(x, y);
   const double worldScale = frame.identityTransform
     ? 1.0
     : glm::length(glm::dmat3(frame.objectToWorld) * dvec3(ray.direction));
@@ -129,17 +213,7 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, std::
     const Geometry& geometry = frame.scene.geometry(rh.hit.geomID);
     const float t = rh.ray.tfar;
     const dvec3 hitObject = dvec3(ray.origin) + double(t) * dvec3(ray.direction);
-    vec3 objectNormal = glm::normalize(vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
-    if (glm::dot(objectNormal, ray.direction) > 0.0f)
-      objectNormal = -objectNormal; // two-sided lighting, as VTK's default
-    vec3 normal = objectNormal;
-    vec3 toViewer = -ray.direction;
-    if (!frame.identityTransform)
-    {
-      normal = glm::normalize(frame.normalToWorld * normal);
-      toViewer = glm::normalize(vec3(frame.objectToWorld * dvec4(dvec3(toViewer), 0.0)));
-    }
-
+    const ShadingFrame s = orientNormal(frame, vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), ray.direction);
     const Material& m = geometry.material;
     vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
     if (geometry.hasPrimitiveColors())
@@ -147,16 +221,16 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, std::
     float visibility[kMaxShadowedLights];
     const bool shadowed = frame.options.shadows.mode != ShadowMode::None && !frame.lighting.lights.empty();
     if (shadowed)
-      lightVisibility(frame, hitObject, objectNormal, normal, x, y, visibility, shadowRays);
-    const vec3 rgb = shade(m, ambientColor, diffuseColor, normal, toViewer, frame.lighting,
+      lightVisibility(frame, hitObject, s.objectNormal, s.normal, x, y, visibility, scratch.shadowRays);
+    const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting,
       shadowed ? visibility : nullptr);
     color = vec4(rgb, m.opacity);
     depthT = t;
   }
+  Ray segment = ray;
+  segment.tfar = hit ? rh.ray.tfar : ray.tfar;
   if (withVolumes)
   {
-    Ray segment = ray;
-    segment.tfar = hit ? rh.ray.tfar : ray.tfar;
     float entry = kInfinity;
     const double inside = volumes.scene->insideLength(segment, entry);
     if (inside > 0.0)
@@ -168,9 +242,11 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, std::
         color = vec4(volumes.emission, 1.0f - transmittance);
       depthT = std::min(depthT, entry); // the volume's front, so it composites with GL geometry
     }
-    else if (!hit)
-      return false;
   }
+  if (withTranslucent)
+    depthT = std::min(depthT, compositeTranslucent(frame, segment, color, scratch));
+  if (!(depthT < kInfinity))
+    return false;
 
   const dvec3 depthPoint = dvec3(ray.origin) + double(depthT) * dvec3(ray.direction);
   fb.Color[i] = color;
@@ -187,13 +263,24 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
   const auto start = std::chrono::steady_clock::now();
   framebuffer.resize(camera.width(), camera.height());
   RenderStatistics stats;
-  if (scene.empty())
+  const EmbreeScene* translucent = options.translucent.scene;
+  if (scene.empty() && !(translucent && !translucent->empty()))
     return stats;
+  if (options.depthLimit && options.depthLimit->size() != framebuffer.pixelCount())
+    throw std::invalid_argument("sightline::Renderer: the depth limit has " +
+      std::to_string(options.depthLimit->size()) + " values for " +
+      std::to_string(framebuffer.pixelCount()) + " pixels");
 
   const bool identity = options.objectToWorld == dmat4(1.0);
+  double unionGap = 0.0;
+  if (translucent && !translucent->empty())
+  {
+    const Box3 box = translucent->bounds();
+    unionGap = 1e-7 * (glm::length(box.upper - box.lower) + glm::length(box.upper) + glm::length(box.lower));
+  }
   const FrameContext frame{ scene, camera, lighting, options, options.objectToWorld,
     glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))),
-    glm::inverse(glm::dmat3(options.objectToWorld)), identity };
+    glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap };
 
   // Bands of tile rows, rendered one after another so that progress is reported (and a cancel
   // honoured) on the calling thread; tiles within a band run in parallel.
@@ -203,7 +290,7 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
   const int tileRows = (height + tile - 1) / tile;
   const int bands = options.progress ? std::min(tileRows, 16) : 1;
   tbb::combinable<std::size_t> hits([] { return std::size_t(0); });
-  tbb::combinable<std::size_t> shadowRays([] { return std::size_t(0); });
+  tbb::enumerable_thread_specific<PixelScratch> scratches;
   for (int band = 0; band < bands; ++band)
   {
     const int y0 = (tileRows * band / bands) * tile;
@@ -211,12 +298,12 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     tbb::parallel_for(tbb::blocked_range2d<int>(y0, y1, tile, 0, width, tile),
       [&](const tbb::blocked_range2d<int>& r)
       {
-        std::size_t local = 0, localShadowRays = 0;
+        PixelScratch& scratch = scratches.local();
+        std::size_t local = 0;
         for (int y = r.rows().begin(); y < r.rows().end(); ++y)
           for (int x = r.cols().begin(); x < r.cols().end(); ++x)
-            local += renderPixel(frame, x, y, framebuffer, localShadowRays);
+            local += renderPixel(frame, x, y, framebuffer, scratch);
         hits.local() += local;
-        shadowRays.local() += localShadowRays;
       });
     if (options.progress && !options.progress(double(band + 1) / bands))
     {
@@ -225,7 +312,11 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     }
   }
   stats.hits = hits.combine(std::plus<std::size_t>());
-  stats.shadowRays = shadowRays.combine(std::plus<std::size_t>());
+  for (const PixelScratch& scratch : scratches)
+  {
+    stats.shadowRays += scratch.shadowRays;
+    stats.translucentSurfaces += scratch.translucentSurfaces;
+  }
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

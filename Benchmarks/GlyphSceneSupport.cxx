@@ -86,7 +86,8 @@ sightline::Material glyphMaterial()
 BuiltScene::BuiltScene(std::shared_ptr<const sightline::Geometry> geometry)
 {
   scene = std::make_unique<sightline::EmbreeScene>(device);
-  scene->add(std::move(geometry));
+  if (geometry)
+    scene->add(std::move(geometry));
   scene->commit();
 }
 

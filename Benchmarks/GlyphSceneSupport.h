@@ -43,7 +43,8 @@ sightline::Camera makeCamera(const View& view);
 /// A glTF dielectric, roughness 0.45.
 sightline::Material glyphMaterial();
 
-/// A committed scene with its own Embree device (so that its memory monitor sees only it).
+/// A committed scene with its own Embree device (so that its memory monitor sees only it);
+/// empty when the geometry is null.
 struct BuiltScene
 {
   std::shared_ptr<sightline::EmbreeDevice> device = std::make_shared<sightline::EmbreeDevice>();

@@ -191,28 +191,47 @@ int vtkSightlineImageRenderer::RequestData(
   sightline::Framebuffer layer;
   const int actorCount = this->Actors->GetNumberOfItems();
   int done = 0;
-  vtkCollectionSimpleIterator it;
-  this->Actors->InitTraversal(it);
-  while (vtkActor* actor = this->Actors->GetNextActor(it))
+  // Opaque actors first, composited by depth as the depth test does when the same actors are
+  // drawn into a window; then translucent ones, each stopped at that depth and blended over,
+  // as VTK's translucent pass does.
+  for (const bool translucentPass : { false, true })
   {
-    this->UpdateProgress(double(done++) / std::max(actorCount, 1));
-    if (!actor->GetVisibility())
+    vtkCollectionSimpleIterator it;
+    this->Actors->InitTraversal(it);
+    while (vtkActor* actor = this->Actors->GetNextActor(it))
     {
-      continue;
-    }
-    auto* mapper = vtkSightlineMapper::SafeDownCast(actor->GetMapper());
-    if (!mapper)
-    {
-      vtkWarningMacro(<< "Skipping an actor whose mapper is "
-                      << (actor->GetMapper() ? actor->GetMapper()->GetClassName() : "null")
-                      << "; only vtkSightlineMapper subclasses can be rendered without OpenGL.");
-      continue;
-    }
-    // Each actor is traced on its own and composited by depth, as the depth test does when
-    // the same actors are drawn into a window.
-    if (mapper->RayTrace(actor, this->ActiveCamera, this->Lights, width, height, layer))
-    {
-      image.compositeNearest(layer);
+      if (!actor->GetVisibility())
+      {
+        continue;
+      }
+      auto* mapper = vtkSightlineMapper::SafeDownCast(actor->GetMapper());
+      if (!mapper)
+      {
+        if (!translucentPass)
+        {
+          vtkWarningMacro(<< "Skipping an actor whose mapper is "
+                          << (actor->GetMapper() ? actor->GetMapper()->GetClassName() : "null")
+                          << "; only vtkSightlineMapper subclasses can be rendered without OpenGL.");
+        }
+        continue;
+      }
+      if (mapper->IsTranslucentFor(actor) != translucentPass)
+      {
+        continue;
+      }
+      this->UpdateProgress(double(done++) / std::max(actorCount, 1));
+      if (!translucentPass)
+      {
+        if (mapper->RayTrace(actor, this->ActiveCamera, this->Lights, width, height, layer))
+        {
+          image.compositeNearest(layer);
+        }
+      }
+      else if (mapper->RayTrace(
+                 actor, this->ActiveCamera, this->Lights, width, height, layer, &image.Depth))
+      {
+        image.blendUnder(layer);
+      }
     }
   }
   this->UpdateProgress(1.0);

@@ -10,6 +10,7 @@
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderUtilities.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -28,6 +29,8 @@
 #include "sightline/Renderer.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <vector>
 
@@ -50,6 +53,10 @@ public:
   vtkNew<vtkTextureObject> DepthTexture;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
   bool TexturesCurrent = false;
+
+  // Translucent actors trace against this empty opaque scene, with their own as the
+  // translucent one.
+  std::unique_ptr<sightline::EmbreeScene> EmptyScene;
 
   bool WarnedOpacity = false;
   bool WarnedPositionalLight = false;
@@ -76,7 +83,7 @@ sightline::Material MaterialFromProperty(vtkProperty* p)
     m.model = sightline::ShadingModel::GltfDielectric;
     m.roughness = static_cast<float>(p->GetRoughness());
   }
-  m.opacity = 1.0f; // opaque only, see the class documentation
+  m.opacity = static_cast<float>(p->GetOpacity());
   return m;
 }
 
@@ -263,8 +270,14 @@ sightline::Lighting vtkSightlineMapper::MakeLighting(vtkLightCollection* lights,
 }
 
 //------------------------------------------------------------------------------
+bool vtkSightlineMapper::IsTranslucentFor(vtkActor* actor)
+{
+  return actor && actor->GetProperty()->GetOpacity() < 1.0 && this->SupportsTranslucency();
+}
+
+//------------------------------------------------------------------------------
 bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCollection* lights,
-  int width, int height, sightline::Framebuffer& framebuffer)
+  int width, int height, sightline::Framebuffer& framebuffer, const std::vector<float>* depthLimit)
 {
   if (!actor || !camera)
   {
@@ -281,11 +294,18 @@ bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCo
   {
     return false;
   }
-  if (actor->GetProperty()->GetOpacity() < 1.0 && !this->Internals->WarnedOpacity)
+  const bool translucent = this->IsTranslucentFor(actor);
+  if (actor->GetProperty()->GetOpacity() < 1.0 && !translucent && !this->Internals->WarnedOpacity)
   {
-    vtkWarningMacro(<< "Property opacity " << actor->GetProperty()->GetOpacity()
-                    << " is not supported yet; the primitives are rendered opaque.");
+    vtkWarningMacro(<< "Property opacity " << actor->GetProperty()->GetOpacity() << " is not supported by "
+                    << this->GetClassName() << "; the primitives are rendered opaque.");
     this->Internals->WarnedOpacity = true;
+  }
+  if (depthLimit && depthLimit->size() != static_cast<std::size_t>(width) * height)
+  {
+    vtkErrorMacro(<< "The depth limit has " << depthLimit->size() << " values for " << width << "x"
+                  << height << " pixels.");
+    return false;
   }
   if (lights && !this->Internals->WarnedPositionalLight)
   {
@@ -304,6 +324,10 @@ bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCo
 
   vtkInternals& in = *this->Internals;
   in.Geometry->material = MaterialFromProperty(actor->GetProperty());
+  if (!translucent)
+  {
+    in.Geometry->material.opacity = 1.0f;
+  }
   const sightline::dmat4 worldToClip =
     vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1));
   sightline::RenderOptions options;
@@ -315,6 +339,19 @@ bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCo
   options.shadows.lightAngularRadius =
     static_cast<float>(vtkMath::RadiansFromDegrees(this->LightAngularRadius));
   this->ConfigureRender(options);
+  options.depthLimit = depthLimit;
+  const sightline::EmbreeScene* opaqueScene = in.Scene.get();
+  if (translucent)
+  {
+    // The union of solids is drawn by the translucent path only.
+    if (!in.EmptyScene)
+    {
+      in.EmptyScene = std::make_unique<sightline::EmbreeScene>();
+      in.EmptyScene->commit();
+    }
+    options.translucent.scene = in.Scene.get();
+    opaqueScene = in.EmptyScene.get();
+  }
   options.progress = [this](double fraction)
   {
     this->UpdateProgress(fraction);
@@ -324,7 +361,7 @@ bool vtkSightlineMapper::RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCo
   {
     const sightline::Camera view(worldToClip * options.objectToWorld, width, height);
     const sightline::RenderStatistics stats = sightline::Renderer().render(
-      *in.Scene, view, MakeLighting(lights, camera), framebuffer, options);
+      *opaqueScene, view, MakeLighting(lights, camera), framebuffer, options);
     this->LastFrameSeconds = stats.seconds;
   }
   catch (const std::exception& e)
@@ -368,6 +405,49 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   const int traceWidth = (width + step - 1) / step;
   const int traceHeight = (height + step - 1) / step;
 
+  // Translucent actors are drawn in VTK's translucent pass: the opaque geometry is already in
+  // the depth buffer, and rays stop there.
+  const bool translucent = this->IsTranslucentFor(actor);
+  std::vector<float> depthLimit;
+  // VTK's translucent pass draws into framebuffers of its own (order-independent transparency,
+  // or depth peeling). The ray tracer composites its layers itself, so it reads the opaque
+  // depth from and blends into the window's render framebuffer directly; other translucent
+  // geometry is then blended over the tubes whatever its depth.
+  struct RenderFramebufferBinding
+  {
+    vtkOpenGLState* State = nullptr;
+    ~RenderFramebufferBinding()
+    {
+      if (State)
+      {
+        State->PopFramebufferBindings();
+      }
+    }
+  } binding;
+  if (translucent)
+  {
+    if (vtkOpenGLFramebufferObject* target = window->GetRenderFramebuffer())
+    {
+      binding.State = window->GetState();
+      binding.State->PushFramebufferBindings();
+      target->Bind();
+    }
+    std::vector<float> viewportDepth(static_cast<std::size_t>(width) * height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(x0, y0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, viewportDepth.data());
+    depthLimit.resize(static_cast<std::size_t>(traceWidth) * traceHeight);
+    for (int ty = 0; ty < traceHeight; ++ty)
+    {
+      const int sy = std::min(height - 1, ty * step + step / 2);
+      for (int tx = 0; tx < traceWidth; ++tx)
+      {
+        const int sx = std::min(width - 1, tx * step + step / 2);
+        depthLimit[static_cast<std::size_t>(ty) * traceWidth + tx] =
+          viewportDepth[static_cast<std::size_t>(sy) * width + sx];
+      }
+    }
+  }
+
   // Everything the frame depends on; an unchanged key reuses the last image.
   std::vector<double> key;
   vtkMatrix4x4* projection =
@@ -385,10 +465,25 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
                             light.color.g, light.color.b, light.intensity });
   }
 
+  if (translucent)
+  {
+    // What is behind changes the image: a hash of the depth it stops at (FNV-1a).
+    std::uint64_t hash = 1469598103934665603ull;
+    for (float d : depthLimit)
+    {
+      std::uint32_t bits;
+      std::memcpy(&bits, &d, sizeof(bits));
+      hash = (hash ^ bits) * 1099511628211ull;
+    }
+    key.push_back(static_cast<double>(hash >> 11));
+    key.push_back(1.0);
+  }
+
   if (key != in.FrameKey)
   {
     in.FrameKey.clear();
-    if (!this->RayTrace(actor, camera, renderer->GetLights(), traceWidth, traceHeight, in.Frame))
+    if (!this->RayTrace(actor, camera, renderer->GetLights(), traceWidth, traceHeight, in.Frame,
+          translucent ? &depthLimit : nullptr))
     {
       this->InvokeEvent(vtkCommand::EndEvent, nullptr);
       return;
@@ -438,9 +533,22 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   vtkOpenGLState* state = window->GetState();
   vtkOpenGLState::ScopedglDepthMask depthMask(state);
   vtkOpenGLState::ScopedglDepthFunc depthFunc(state);
+  vtkOpenGLState::ScopedglEnableDisable blend(state, GL_BLEND);
+  vtkOpenGLState::ScopedglBlendFuncSeparate blendFunction(state);
   state->vtkglEnable(GL_DEPTH_TEST);
-  state->vtkglDepthMask(GL_TRUE);
   state->vtkglDepthFunc(GL_LEQUAL);
+  if (translucent)
+  {
+    // Colours are premultiplied (composited over black); the rays already stopped at the
+    // opaque depth, and translucent surfaces write no depth, as VTK's alpha blending.
+    state->vtkglEnable(GL_BLEND);
+    state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    state->vtkglDepthMask(GL_FALSE);
+  }
+  else
+  {
+    state->vtkglDepthMask(GL_TRUE);
+  }
 
   in.ColorTexture->Activate();
   in.DepthTexture->Activate();

@@ -29,8 +29,17 @@
  * ray per light, soft shadows ShadowSamples rays into a spherical light of
  * LightAngularRadius degrees.
  *
- * Limitations: vtkProperty opacity below 1 is not supported yet (rendered opaque, with a
- * warning); positional and spot lights are treated as directional lights along their axis.
+ * Opacity: mappers whose primitives are solids (SupportsTranslucency(), e.g. the tube mapper)
+ * honour vtkProperty opacity below 1 by drawing only the outer surfaces of the union of their
+ * solids, front to back (no interior surfaces where they overlap). In a window they are drawn
+ * in VTK's translucent pass: rays stop at the depth of the opaque geometry already drawn, and
+ * the image is alpha-blended over the frame without writing depth. The mapper sorts its own
+ * surfaces exactly; other translucent actors (order-independent transparency or depth
+ * peeling) are blended over it regardless of depth. Other mappers render opaque with a
+ * warning.
+ *
+ * Limitations: positional and spot lights are treated as directional lights along their axis;
+ * translucent surfaces cast no shadows.
  *
  * @sa vtkSightlineSphereMapper vtkSightlineImageRenderer
  */
@@ -43,6 +52,7 @@
 #ifndef __VTK_WRAP__
 #include <glm/mat4x4.hpp> // for glm::dmat4
 #include <memory>          // for std::shared_ptr
+#include <vector>          // for std::vector
 namespace sightline
 {
 class Framebuffer;
@@ -81,10 +91,17 @@ public:
   using vtkAbstractMapper3D::GetBounds;
 
   /**
-   * Ray-traced primitives are opaque (see the class documentation).
+   * The mapper's own geometry has no translucent parts; vtkActor makes the whole actor
+   * translucent when its property's opacity is below 1 (see the class documentation).
    */
   bool HasOpaqueGeometry() override { return true; }
   bool HasTranslucentPolygonalGeometry() override { return false; }
+
+  /**
+   * Whether this actor is drawn translucent: its property's opacity is below 1 and this
+   * mapper's primitives support it.
+   */
+  bool IsTranslucentFor(vtkActor* actor);
 
   ///@{
   /**
@@ -157,7 +174,8 @@ public:
    * nothing could be rendered. The window path uses this same function.
    */
   bool RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCollection* lights, int width,
-    int height, sightline::Framebuffer& framebuffer);
+    int height, sightline::Framebuffer& framebuffer,
+    const std::vector<float>* depthLimit = nullptr);
 
   /**
    * The kernel lighting VTK would apply with these lights and this camera: headlights follow
@@ -183,6 +201,12 @@ protected:
    * is valid). Called only when the input, the mapper or the lookup table changed.
    */
   virtual std::shared_ptr<sightline::Geometry> BuildGeometry() = 0;
+
+  /**
+   * Whether the geometry is a union of solids that can be drawn translucent
+   * (sightline::Geometry::insideIntervals). Default false.
+   */
+  virtual bool SupportsTranslucency() { return false; }
 
   /**
    * Lets a subclass add what its primitives need to the render options of a frame (e.g. the

@@ -166,18 +166,39 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 
   try
   {
-    auto tubes = std::make_shared<sightline::TubeSet>(points, radii, predecessors, colors);
+    sightline::TubeLayout layout;
+    layout.primitives = this->LinkLayout >= LINKS_SEPARATE_ON_THE_FLY
+      ? sightline::TubeLayout::Primitives::Separate
+      : sightline::TubeLayout::Primitives::Combined;
+    layout.transforms = this->LinkLayout % 2 == 1 ? sightline::TubeLayout::Transforms::Precomputed
+                                                  : sightline::TubeLayout::Transforms::OnTheFly;
+    auto tubes = std::make_shared<sightline::TubeSet>(points, radii, predecessors, colors, layout);
     for (const std::string& reason : tubes->report().reasons)
     {
       vtkWarningMacro(<< reason << ".");
     }
-    this->NumberOfLinks = static_cast<vtkIdType>(tubes->size());
+    this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
     return tubes;
   }
   catch (const std::exception& e)
   {
     vtkErrorMacro(<< "Could not build the tubes: " << e.what());
     return nullptr;
+  }
+}
+
+const char* vtkSightlineTubeMapper::GetLinkLayoutAsString()
+{
+  switch (this->LinkLayout)
+  {
+    case LINKS_COMBINED_PRECOMPUTED:
+      return "CombinedPrecomputed";
+    case LINKS_SEPARATE_ON_THE_FLY:
+      return "SeparateOnTheFly";
+    case LINKS_SEPARATE_PRECOMPUTED:
+      return "SeparatePrecomputed";
+    default:
+      return "CombinedOnTheFly";
   }
 }
 
@@ -191,5 +212,6 @@ void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RadiusFactor: " << this->RadiusFactor << "\n";
   os << indent << "PredecessorArrayName: "
      << (this->PredecessorArrayName ? this->PredecessorArrayName : "(polylines)") << "\n";
+  os << indent << "LinkLayout: " << this->GetLinkLayoutAsString() << "\n";
   os << indent << "NumberOfLinks: " << this->NumberOfLinks << "\n";
 }

@@ -18,8 +18,17 @@
  * non-finite radius or position are dropped with their links, with a warning.
  *
  * Colour: VTK's scalar colouring per point (ScalarVisibility, lookup table) or the actor's.
- * This is the opaque path: opacity below 1 is drawn opaque (interior surfaces of overlapping
- * links are not removed yet).
+ *
+ * Opacity: with the actor's opacity below 1 the tubes are drawn as the union of their solids
+ * (Han et al. 2019, Section 4.3): only where a ray enters or leaves the union is a surface
+ * drawn, so overlapping links and bifurcations show no interior surfaces, and a camera inside
+ * a tube sees its wall from inside. Opaque actors take the cheaper first-hit path. See
+ * vtkSightlineMapper for how translucent actors composite with the rest of the scene.
+ *
+ * LinkLayout picks one of the paper's four implementation choices (Table 1); they draw the
+ * same image and differ in memory and speed (see Benchmarks/README.md). The default,
+ * combined links with stumps computed on the fly, uses the least memory (20 bytes per link
+ * plus the BVH) and was the fastest or within 5 % of it in our measurements.
  *
  * @sa vtkSightlineSWCReader vtkSightlineTrackVisReader vtkSightlineTCKReader vtkTubeFilter
  */
@@ -87,8 +96,27 @@ public:
   vtkSetStringMacro(PredecessorArrayName);
   vtkGetStringMacro(PredecessorArrayName);
 
+  enum LinkLayouts
+  {
+    LINKS_COMBINED_ON_THE_FLY = 0,
+    LINKS_COMBINED_PRECOMPUTED,
+    LINKS_SEPARATE_ON_THE_FLY,
+    LINKS_SEPARATE_PRECOMPUTED
+  };
+
+  ///@{
   /**
-   * Links (control points) of the last build.
+   * The link primitive: a link's sphere and cone stump as one BVH primitive or two, and the
+   * stump's parameters stored or computed at every ray test. Default
+   * LINKS_COMBINED_ON_THE_FLY.
+   */
+  vtkSetClampMacro(LinkLayout, int, LINKS_COMBINED_ON_THE_FLY, LINKS_SEPARATE_PRECOMPUTED);
+  vtkGetMacro(LinkLayout, int);
+  const char* GetLinkLayoutAsString();
+  ///@}
+
+  /**
+   * Control points of the last build (each with its link to a predecessor, if any).
    */
   vtkGetMacro(NumberOfLinks, vtkIdType);
 
@@ -100,6 +128,7 @@ protected:
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
 #endif
+  bool SupportsTranslucency() override { return true; }
 
   double Radius = 1.0;
   char* RadiusArrayName = nullptr;
@@ -107,6 +136,7 @@ protected:
   double RadiusScale = 1.0;
   double RadiusFactor = 10.0;
   char* PredecessorArrayName = nullptr;
+  int LinkLayout = LINKS_COMBINED_ON_THE_FLY;
   vtkIdType NumberOfLinks = 0;
 
 private:

@@ -1,6 +1,7 @@
 // vtkSightlineTubeMapper: a neuron read by vtkSightlineSWCReader drawn from its parent indices
 // and from its polylines (the same tubes), a straight tube's silhouette against its analytic
-// area, and bad input. Baseline with vtkTesting's metric, threshold 0.5.
+// area, translucent tubes composited with OpenGL spheres in front and behind, and bad input.
+// Baselines with vtkTesting's metric, threshold 0.5.
 #include "SightlineTestUtilities.h"
 
 #include "vtkCamera.h"
@@ -11,6 +12,8 @@
 #include "vtkPoints.h"
 #include "vtkSightlineSWCReader.h"
 #include "vtkSightlineTubeMapper.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkSphereSource.h"
 
 #include <gtest/gtest.h>
 
@@ -111,6 +114,118 @@ TEST(TubeMapper, StraightTubeSilhouetteHasTheAnalyticArea)
   const int covered = CoveredPixels(CaptureRGB(scene.window));
   std::cout << "tube silhouette: " << covered << " pixels, reference " << pixels << "\n";
   EXPECT_NEAR(covered, pixels, 0.01 * pixels);
+}
+
+namespace
+{
+/// A Y bifurcation in the plane z = 0 as points with parent indices and radii.
+vtkSmartPointer<vtkPolyData> Bifurcation()
+{
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkIdTypeArray> parents;
+  parents->SetName("parent");
+  vtkNew<vtkDoubleArray> radii;
+  radii->SetName("radius");
+  const double p[4][3] = { { 0, -1.5, 0 }, { 0, 0.5, 0 }, { -1.3, 1.8, 0 }, { 1.3, 1.8, 0 } };
+  const double r[4] = { 0.55, 0.45, 0.25, 0.3 };
+  const vtkIdType parent[4] = { -1, 0, 1, 1 };
+  for (int i = 0; i < 4; ++i)
+  {
+    points->InsertNextPoint(p[i]);
+    radii->InsertNextValue(r[i]);
+    parents->InsertNextValue(parent[i]);
+  }
+  poly->SetPoints(points);
+  poly->GetPointData()->AddArray(parents);
+  poly->GetPointData()->AddArray(radii);
+  return poly;
+}
+
+/// An OpenGL sphere actor (vtkPolyDataMapper), opaque.
+vtkSmartPointer<vtkActor> GLSphere(double x, double y, double z, double radius, double r, double g, double b)
+{
+  vtkNew<vtkSphereSource> source;
+  source->SetCenter(x, y, z);
+  source->SetRadius(radius);
+  source->SetThetaResolution(48);
+  source->SetPhiResolution(48);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(source->GetOutputPort());
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(r, g, b);
+  return actor;
+}
+
+struct TranslucentScene : Scene
+{
+  vtkSmartPointer<vtkActor> front = GLSphere(0.0, -0.5, 1.2, 0.3, 0.2, 0.4, 1.0);
+  vtkSmartPointer<vtkActor> behind = GLSphere(0.55, 0.0, -1.2, 0.5, 1.0, 0.3, 0.2);
+
+  TranslucentScene(bool withTubes, bool withSpheres)
+    : Scene(320, 240)
+  {
+    mapper->SetInputDataObject(Bifurcation());
+    mapper->SetPredecessorArrayName("parent");
+    mapper->SetRadiusArrayName("radius");
+    actor->GetProperty()->SetColor(0.3, 0.9, 0.5);
+    actor->GetProperty()->SetOpacity(0.45);
+    actor->SetVisibility(withTubes);
+    if (withSpheres)
+    {
+      renderer->AddActor(front);
+      renderer->AddActor(behind);
+    }
+    vtkCamera* camera = renderer->GetActiveCamera();
+    camera->SetFocalPoint(0, 0.2, 0);
+    camera->SetPosition(0, 0.2, 8);
+    camera->SetViewUp(0, 1, 0);
+    camera->SetViewAngle(35);
+    renderer->ResetCameraClippingRange(-3, 3, -3, 3, -3, 3);
+  }
+};
+
+/// Window pixel of a world point.
+std::array<int, 2> PixelOf(vtkRenderer* renderer, double x, double y, double z)
+{
+  renderer->SetWorldPoint(x, y, z, 1.0);
+  renderer->WorldToDisplay();
+  double* d = renderer->GetDisplayPoint();
+  return { static_cast<int>(d[0]), static_cast<int>(d[1]) };
+}
+} // namespace
+
+TEST(TubeMapper, TranslucentTubesCompositeWithOpenGLGeometry)
+{
+  TranslucentScene all(true, true), tubesOnly(true, false), spheresOnly(false, true);
+  for (TranslucentScene* scene : { &all, &tubesOnly, &spheresOnly })
+    scene->window->Render();
+  auto image = CaptureRGB(all.window);
+  auto tubes = CaptureRGB(tubesOnly.window);
+  auto spheres = CaptureRGB(spheresOnly.window);
+
+  // The sphere in front hides the tube: its centre pixel is the sphere alone.
+  const auto front = PixelOf(all.renderer, 0.0, -0.5, 1.2);
+  EXPECT_EQ(Pixel(image, front[0], front[1]), Pixel(spheres, front[0], front[1]));
+  // The sphere behind shows through the tube: neither the sphere alone nor the tube alone.
+  const auto behind = PixelOf(all.renderer, 0.2, 0.0, -1.2); // behind the trunk
+  const auto blended = Pixel(image, behind[0], behind[1]);
+  const auto sphereAlone = Pixel(spheres, behind[0], behind[1]);
+  const auto tubeAlone = Pixel(tubes, behind[0], behind[1]);
+  EXPECT_GT(blended[0], tubeAlone[0] + 40) << "the red sphere must show through";
+  EXPECT_LT(blended[0], sphereAlone[0] - 40) << "the tube must tint it";
+  // Away from the spheres, the tube over black: two layers of opacity 0.45 on the trunk.
+  const auto trunk = PixelOf(all.renderer, 0.0, -1.0, 0.0);
+  EXPECT_EQ(Pixel(image, trunk[0], trunk[1]), Pixel(tubes, trunk[0], trunk[1]));
+  EXPECT_GT(Pixel(tubes, trunk[0], trunk[1])[1], 60);
+
+  // The GL-free path draws the same translucent tubes.
+  const double black[3] = { 0, 0, 0 };
+  auto withoutGL = RenderWithoutGL({ tubesOnly.actor }, tubesOnly.renderer->GetActiveCamera(), 320, 240, black);
+  int differing = 0;
+  EXPECT_LE(MaxRGBDifference(tubes, withoutGL, &differing), 2);
+  EXPECT_TRUE(MatchesBaseline(image, "TubeTranslucent", 0.5));
 }
 
 TEST(TubeMapper, BadInputIsReportedByName)

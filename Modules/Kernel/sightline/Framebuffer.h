@@ -38,6 +38,11 @@ public:
   /// depth test composites several mappers in one window.
   void compositeNearest(const Framebuffer& other);
 
+  /// Puts this image behind a translucent layer `front` (alpha blending, "over"): colours and
+  /// alpha blend, depth and distance stay this image's, as translucent surfaces drawn with
+  /// alpha blending write no depth.
+  void blendUnder(const Framebuffer& front);
+
 private:
   int Width = 0;
   int Height = 0;

@@ -63,4 +63,20 @@ void Framebuffer::compositeNearest(const Framebuffer& other)
     }
   }
 }
+
+void Framebuffer::blendUnder(const Framebuffer& front)
+{
+  if (front.Width != Width || front.Height != Height)
+    throw std::invalid_argument("sightline::Framebuffer::blendUnder: sizes differ");
+  for (std::size_t i = 0; i < Color.size(); ++i)
+  {
+    const vec4& f = front.Color[i];
+    if (f.a <= 0.0f)
+      continue;
+    const vec4& b = Color[i];
+    const float alpha = f.a + (1.0f - f.a) * b.a;
+    const vec3 premultiplied = f.a * vec3(f) + (1.0f - f.a) * b.a * vec3(b);
+    Color[i] = vec4(premultiplied / alpha, alpha);
+  }
+}
 } // namespace sightline

@@ -28,6 +28,11 @@ that every data set (cu4, hot8, hot12) has every method's row, the exact method 
 reduced affine subdivision match the converged reference, the paper's recommended marching
 (step 0.2) is less accurate than the exact method and step 0.01 more accurate than step 0.2,
 the intersection-cost CSV has positive costs, and the plot script makes its figure.
+
+--scene tubes runs a neuron assembly of about 4,000 links at 200x150 (no display needed) and
+checks that every method has its row, the four Sightline link layouts and the CSG path at
+opacity 1 draw what Embree's round linear curves draw, the translucent frame differs from it,
+and vtkTubeFilter with more sides is more accurate and uses more memory than with fewer.
 """
 
 import argparse
@@ -424,6 +429,49 @@ def check_sh_glyph_window(arguments):
     return 0
 
 
+TUBE_LINKS = 4000
+TUBE_WIDTH, TUBE_HEIGHT = 200, 150
+TUBE_EXACT = ["sightline:combined-on-the-fly", "sightline:combined-precomputed",
+              "sightline:separate-on-the-fly", "sightline:separate-precomputed", "sightline-csg"]
+TUBE_FILTER_SIDES = [6, 12, 24]
+
+
+def check_tubes(arguments):
+    if os.path.isdir(arguments.output):
+        shutil.rmtree(arguments.output)
+    command = [arguments.harness, "--scene", "tubes", "--count", str(TUBE_LINKS),
+               "--width", str(TUBE_WIDTH), "--height", str(TUBE_HEIGHT), "--runs", "1",
+               "--output", arguments.output, "--no-plot"]
+    print(" ".join(command), flush=True)
+    if subprocess.run(command, timeout=150).returncode != 0:
+        fail("the harness failed")
+    methods = ["embree-round-curves"] + TUBE_EXACT + ["sightline-translucent-0.4"] + \
+        [f"vtk-tube-filter-{n}" for n in TUBE_FILTER_SIDES]
+    rows, by_method = read_rows(arguments, "tubes", [f"neurons:{m}" for m in methods])
+    for row in rows:
+        if row["status"] == "skipped":
+            fail(f"{row['method']}: {row['notes']}")
+        if value(row, "frame_seconds_median") <= 0 or value(row, "bytes_per_primitive") <= 0:
+            fail(f"{row['method']}: no frame time or memory")
+
+    def error(name):
+        row = by_method["neurons:" + name]
+        return value(row, "rgb_mean_abs_diff") + value(row, "coverage_diff_percent")
+
+    for name in TUBE_EXACT:
+        if error(name) > 0.05:
+            fail(f"{name} does not draw what Embree's round linear curves draw: error {error(name)}")
+    if not error("sightline-translucent-0.4") > 0.5:
+        fail("the translucent frame looks like the opaque reference")
+    filters = [error(f"vtk-tube-filter-{n}") for n in TUBE_FILTER_SIDES]
+    memory = [value(by_method[f"neurons:vtk-tube-filter-{n}"], "bytes_per_primitive") for n in TUBE_FILTER_SIDES]
+    if not (filters[0] > filters[-1] > error(TUBE_EXACT[0])) or not memory[0] < memory[-1]:
+        fail(f"vtkTubeFilter errors {filters} / bytes {memory}: the comparison is broken")
+    print(f"OK: {len(rows)} rows; exact layouts within {max(error(n) for n in TUBE_EXACT):.3g}; "
+          f"vtkTubeFilter errors {', '.join(f'{e:.3g}' for e in filters)}")
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -431,7 +479,7 @@ def main():
     parser.add_argument("--plot-script", required=True)
     parser.add_argument("--output", required=True)
     parser.add_argument("--scene", choices=["spheres", "sh-glyphs", "sh-glyph-window",
-                                            "tensor-glyphs"],
+                                            "tensor-glyphs", "tubes"],
                         default="spheres")
     parser.add_argument("--data-dir", help="sh-glyph-window: where its data is kept")
     arguments = parser.parse_args()
@@ -441,6 +489,8 @@ def main():
         return check_sh_glyph_window(arguments)
     if arguments.scene == "tensor-glyphs":
         return check_tensor_glyphs(arguments)
+    if arguments.scene == "tubes":
+        return check_tubes(arguments)
     return check_spheres(arguments)
 
 

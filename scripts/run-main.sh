@@ -2,7 +2,8 @@
 # Sets up, builds, and runs Sightline's main job on data shipped with Debian: a slice of exact
 # SH glyphs from DIPY's small_64D diffusion data with soft shadows, DIPY's tractography bundles
 # as exact spheres (in a VTK window and without OpenGL), and higher-order tensor glyphs (a copper
-# polycrystal's stiffness tensors; small_64D fitted as 4th-order tensors). Images go to ./output.
+# polycrystal's stiffness tensors; small_64D fitted as 4th-order tensors), and the bundles again
+# as exact generalized tubes, opaque and translucent. Images go to ./output.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SIGHTLINE_BUILD_DIR:-$root/build}"
@@ -28,3 +29,8 @@ xvfb-run -a -s "-screen 0 1920x1080x24" \
 xvfb-run -a -s "-screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tensor_glyphs.py --output "$root/output" --size 1200 1200 \
   --tensor "$root/output/tensor_data/small_64D_gdti4.nii.gz" --layout unique
+# 4. DIPY's bundles as exact generalized tubes (Sightline's TrackVis reader), opaque and with
+#    two bundles translucent around an opaque one, in a window and without OpenGL
+#    (output/tubes_opaque_window.png, output/tubes_translucent_window.png, ..._gl_free.png).
+xvfb-run -a -s "-screen 0 1920x1080x24" \
+  /usr/bin/python3 Examples/Python/render_tubes.py --output "$root/output" --size 1600 1000

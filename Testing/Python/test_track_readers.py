@@ -91,6 +91,17 @@ class TrackReaders(unittest.TestCase):
         self.assertGreater(covered, 1500)
         self.assertLess(covered, 0.5 * len(rgba))
 
+        # Translucent: the same silhouette, and over the black background every pixel dimmer
+        # than opaque: a front surface of opacity 0.4 and what shows through it.
+        actor.GetProperty().SetOpacity(0.4)
+        batch.Modified()
+        batch.Update()
+        translucent = vtk_to_numpy(batch.GetOutput().GetPointData().GetScalars())
+        inside = rgba[:, :3].sum(axis=1) > 0
+        self.assertEqual((translucent[:, :3].sum(axis=1) > 0).sum(), covered)
+        ratio = translucent[inside, :3].sum(axis=1) / rgba[inside, :3].sum(axis=1)
+        self.assertLess(np.percentile(ratio, 99), 1.0)
+        self.assertTrue(0.3 < np.median(ratio) < 0.9, np.median(ratio))
 
 if __name__ == "__main__":
     unittest.main()

@@ -30,6 +30,10 @@ struct FrameContext
   bool identityTransform;
   /// Translucent unions: intervals this close count as touching (no interior surface).
   double unionGap;
+  /// Length of the first segment a translucent ray is traced in, and the translucent
+  /// scene's bounds (scene coordinates).
+  double translucentSegment;
+  Box3 translucentBounds;
 };
 
 constexpr int kMaxShadowedLights = 16;
@@ -146,34 +150,82 @@ ShadingFrame orientNormal(const FrameContext& frame, vec3 objectNormal, const ve
 
 /// Composites the union surfaces of the translucent scene in (ray.tnear, ray.tfar) front to
 /// back over `color` (not premultiplied); returns the nearest surface's t, or infinity.
+/// The ray is traced in segments of doubling length so that once the layers saturate nothing
+/// farther is visited. Each segment collects every solid overlapping it (their intervals are
+/// not clipped), so the union's surfaces inside the segment are exact; a solid spanning two
+/// segments is seen in both, and only surfaces within each segment's range are drawn.
 float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& color, PixelScratch& scratch)
 {
   const EmbreeScene& scene = *frame.options.translucent.scene;
-  scratch.intervals.clear();
-  scene.insideIntervals(ray, scratch.intervals);
-  if (scratch.intervals.empty())
-    return kInfinity;
-  unionSurfaces(scratch.intervals, ray.tnear, ray.tfar, frame.unionGap, scratch.surfaces);
   vec3 premultiplied(0.0f);
   float alpha = 0.0f;
   float nearest = kInfinity;
-  for (const UnionSurface& surface : scratch.surfaces)
+  bool saturated = false;
+  // Segments start where the ray enters the scene's box, not at the near plane.
+  double segmentStart = ray.tnear, rayEnd = ray.tfar;
+  for (int axis = 0; axis < 3; ++axis)
   {
-    const Geometry& geometry = scene.geometry(surface.geometry);
-    const vec3 point = vec3(dvec3(ray.origin) + surface.t * dvec3(ray.direction));
-    const ShadingFrame s = orientNormal(frame, geometry.partNormal(surface.part, point), ray.direction);
-    const Material& m = geometry.material;
-    vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
-    if (geometry.hasPrimitiveColors())
-      ambientColor = diffuseColor = geometry.partColor(surface.part);
-    const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
-    premultiplied += (1.0f - alpha) * m.opacity * rgb;
-    alpha += (1.0f - alpha) * m.opacity;
-    nearest = std::min(nearest, float(surface.t));
-    ++scratch.translucentSurfaces;
-    if (alpha >= frame.options.translucent.saturation)
-      break;
+    const double o = ray.origin[axis], d = ray.direction[axis];
+    const double lo = frame.translucentBounds.lower[axis], hi = frame.translucentBounds.upper[axis];
+    if (d == 0.0)
+    {
+      if (o < lo || o > hi)
+        return kInfinity;
+      continue;
+    }
+    double t0 = (lo - o) / d, t1 = (hi - o) / d;
+    if (t0 > t1)
+      std::swap(t0, t1);
+    segmentStart = std::max(segmentStart, t0);
+    rayEnd = std::min(rayEnd, t1);
   }
+  if (!(segmentStart <= rayEnd))
+    return kInfinity;
+  // Back off by the merge gap so a surface right at the box's face is not lost.
+  segmentStart = std::max(double(ray.tnear), segmentStart - frame.unionGap);
+  rayEnd = std::min(double(ray.tfar), rayEnd + frame.unionGap);
+  double segmentLength = frame.translucentSegment;
+  while (!saturated && segmentStart < rayEnd)
+  {
+    Ray segment = ray;
+    segment.tnear = float(segmentStart);
+    const double segmentEnd = std::min(rayEnd, segmentStart + segmentLength);
+    segment.tfar = float(segmentEnd);
+    scratch.intervals.clear();
+    scene.insideIntervals(segment, scratch.intervals);
+    // unionSurfaces takes the open range (tnear, tfar): a surface exactly at a segment's end
+    // belongs to that segment, so its range reaches just past the end (the last segment's end
+    // is the ray's own).
+    const bool last = segmentEnd >= rayEnd;
+    unionSurfaces(scratch.intervals, segmentStart,
+      last ? segmentEnd : std::nextafter(segmentEnd, 1e300), frame.unionGap, scratch.surfaces);
+    for (const UnionSurface& surface : scratch.surfaces)
+    {
+      const Geometry& geometry = scene.geometry(surface.geometry);
+      const vec3 point = vec3(dvec3(ray.origin) + surface.t * dvec3(ray.direction));
+      const ShadingFrame s = orientNormal(frame, geometry.partNormal(surface.part, point), ray.direction);
+      const Material& m = geometry.material;
+      vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
+      if (geometry.hasPrimitiveColors())
+        ambientColor = diffuseColor = geometry.partColor(surface.part);
+      const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
+      premultiplied += (1.0f - alpha) * m.opacity * rgb;
+      alpha += (1.0f - alpha) * m.opacity;
+      nearest = std::min(nearest, float(surface.t));
+      ++scratch.translucentSurfaces;
+      if (alpha >= frame.options.translucent.saturation)
+      {
+        saturated = true;
+        break;
+      }
+    }
+    if (last)
+      break;
+    segmentStart = segmentEnd;
+    segmentLength *= 4.0;
+  }
+  if (!(nearest < kInfinity))
+    return kInfinity;
   const float total = alpha + (1.0f - alpha) * color.a;
   if (total > 0.0f)
     color = vec4((premultiplied + (1.0f - alpha) * color.a * vec3(color)) / total, total);
@@ -272,15 +324,21 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
       std::to_string(framebuffer.pixelCount()) + " pixels");
 
   const bool identity = options.objectToWorld == dmat4(1.0);
-  double unionGap = 0.0;
+  double unionGap = 0.0, translucentSegment = 1e30;
+  Box3 translucentBounds;
   if (translucent && !translucent->empty())
   {
     const Box3 box = translucent->bounds();
-    unionGap = 1e-7 * (glm::length(box.upper - box.lower) + glm::length(box.upper) + glm::length(box.lower));
+    translucentBounds = box;
+    const double diagonal = glm::length(box.upper - box.lower);
+    unionGap = 1e-7 * (diagonal + glm::length(box.upper) + glm::length(box.lower));
+    // A first segment of 1/64 of the scene: dense scenes saturate within a few segments, and
+    // a ray through the whole scene costs log2(64) + 1 extra traversals at most.
+    translucentSegment = std::max(diagonal / 32.0, 1e-30);
   }
   const FrameContext frame{ scene, camera, lighting, options, options.objectToWorld,
     glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))),
-    glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap };
+    glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap, translucentSegment, translucentBounds };
 
   // Bands of tile rows, rendered one after another so that progress is reported (and a cancel
   // honoured) on the calling thread; tiles within a band run in parallel.

@@ -204,8 +204,7 @@ INSTANTIATE_TEST_SUITE_P(AllFour, TubeLayouts, ::testing::Range(0, 4),
     return out;
   });
 
-// A Y: a trunk and two branches from point 1, radii shrinking; plus a short stub whose sphere
-// holds its predecessor's (no stump).
+// A Y: a trunk and two branches from point 1, radii shrinking.
 const std::vector<vec3> kY = { vec3(0, 0, 0), vec3(0, 2, 0), vec3(-1.5, 4, 0), vec3(1.5, 4, 0) };
 const std::vector<float> kYRadii = { 0.6f, 0.5f, 0.25f, 0.3f };
 const std::vector<std::int64_t> kYPredecessors = { -1, 0, 1, 1 };

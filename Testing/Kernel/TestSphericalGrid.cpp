@@ -1,0 +1,355 @@
+// Spherical-grid traversal (SphericalGrid.h) against an independent reference: every sphere,
+// cone and half-plane of the grid intersected by brute force, the pieces between consecutive
+// crossings classified by converting their midpoints to (r, theta, phi) with acos and atan2.
+// For every class of ray the thesis singles out (through the origin, along the polar axis,
+// tangent to a shell, grazing a cone, starting inside, through a cell corner, through the z
+// axis, vertical) and for random rays, on a full sphere and on a section (shell, band, wedge):
+// segments are ordered and inside the cell they name, their lengths sum to the chord through
+// the domain, and the projections of a step function and of r^2 equal the reference integrals.
+#include "sightline/SphericalGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <stdexcept>
+
+using namespace sightline;
+
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+
+SphericalGrid fullSphere()
+{
+  // Non-uniform in every coordinate; the equator and both poles are breakpoints.
+  return { { 0.0, 0.3, 0.55, 1.0, 1.2, 2.0 }, { 0.0, 0.4, 1.0, kPi / 2, 2.2, kPi },
+    { -kPi, -2.0, -0.5, 0.0, 0.7, 1.9, kPi } };
+}
+
+SphericalGrid section()
+{
+  // A shell r in [0.5, 2], a band theta in [0.3, 2.0], a wedge phi in [-0.5, 2.5].
+  return { { 0.5, 0.8, 1.5, 2.0 }, { 0.3, 0.9, kPi / 2, 2.0 }, { -0.5, 0.4, 1.3, 2.5 } };
+}
+
+struct Classified
+{
+  bool inside;
+  int r, theta, phi;
+};
+
+Classified classify(const SphericalGrid& g, const dvec3& x)
+{
+  const double r = glm::length(x);
+  const double theta = r > 0.0 ? std::acos(std::clamp(x.z / r, -1.0, 1.0)) : 0.0;
+  double phi = std::atan2(x.y, x.x);
+  const double phi0 = g.azimuth.front();
+  while (phi < phi0)
+    phi += 2.0 * kPi;
+  while (phi >= phi0 + 2.0 * kPi)
+    phi -= 2.0 * kPi;
+  auto index = [](const std::vector<double>& b, double v)
+  { return int(std::upper_bound(b.begin(), b.end(), v) - b.begin()) - 1; };
+  Classified c{ false, index(g.radius, r), index(g.polar, theta), index(g.azimuth, phi) };
+  if (theta >= g.polar.back() && g.polar.back() >= kPi)
+    c.theta = g.polarCells() - 1; // the south pole belongs to the last band
+  c.inside = c.r >= 0 && c.r < g.radialCells() && c.theta >= 0 && c.theta < g.polarCells() &&
+    c.phi >= 0 && c.phi < g.azimuthalCells();
+  return c;
+}
+
+/// Every t where the line meets a grid surface (extra candidates are harmless).
+std::vector<double> allCrossings(const SphericalGrid& g, const dvec3& p, const dvec3& d, double tmin, double tmax)
+{
+  std::vector<double> ts = { tmin, tmax };
+  auto quadratic = [&](double a, double b, double c)
+  {
+    if (std::abs(a) < 1e-300)
+    {
+      if (b != 0.0)
+        ts.push_back(-c / b);
+      return;
+    }
+    const double disc = b * b - 4.0 * a * c;
+    if (disc < 0.0)
+      return;
+    // Both roots, each polished by Newton steps in long double.
+    for (double sign : { -1.0, 1.0 })
+    {
+      long double t = (-b + sign * std::sqrt(disc)) / (2.0 * a);
+      for (int k = 0; k < 3; ++k)
+      {
+        const long double f = (a * t + b) * t + c, df = 2.0L * a * t + b;
+        if (df != 0.0L)
+          t -= f / df;
+      }
+      ts.push_back(double(t));
+    }
+  };
+  for (double r : g.radius)
+    quadratic(glm::dot(d, d), 2.0 * glm::dot(p, d), glm::dot(p, p) - r * r);
+  for (double theta : g.polar)
+  {
+    const double c2 = std::cos(theta) * std::cos(theta);
+    quadratic(d.z * d.z - c2 * glm::dot(d, d), 2.0 * (p.z * d.z - c2 * glm::dot(p, d)), p.z * p.z - c2 * glm::dot(p, p));
+  }
+  for (double phi : g.azimuth)
+  {
+    const double den = d.y * std::cos(phi) - d.x * std::sin(phi);
+    if (den != 0.0)
+      ts.push_back((p.x * std::sin(phi) - p.y * std::cos(phi)) / den);
+  }
+  // The equator's "cone" is the plane z = 0 (a double root the quadratic may lose to rounding),
+  // and the origin and the z axis, where theta and phi jump.
+  if (d.z != 0.0)
+    ts.push_back(-p.z / d.z);
+  ts.push_back(-glm::dot(p, d) / glm::dot(d, d));
+  if (d.x * d.x + d.y * d.y > 0.0)
+    ts.push_back(-(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y));
+  std::vector<double> kept;
+  for (double t : ts)
+    if (std::isfinite(t) && t >= tmin && t <= tmax)
+      kept.push_back(t);
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+/// Integral of |p + t d|^2 over [a, b].
+double integralOfRadiusSquared(const dvec3& p, const dvec3& d, double a, double b)
+{
+  const double dd = glm::dot(d, d), pd = glm::dot(p, d), pp = glm::dot(p, p);
+  auto antiderivative = [&](double t) { return pp * t + pd * t * t + dd * t * t * t / 3.0; };
+  return antiderivative(b) - antiderivative(a);
+}
+
+double stepValue(const SphericalGrid& g, int r, int theta, int phi)
+{
+  return 1.0 + 0.5 * r + 0.25 * theta + 0.125 * phi + 0.01 * double(g.cellIndex(r, theta, phi) % 7);
+}
+
+struct RayCheck
+{
+  int rays = 0, hitting = 0, nearTangent = 0;
+  double worstLength = 0.0, worstStep = 0.0, worstRadiusSquared = 0.0;
+};
+
+/// `onBoundary`: the ray lies in a cone, so which of the two cells it is in is a matter of
+/// rounding; then only the chord and r^2 (which do not depend on it) are compared.
+/// Errors must be under 1e-9 relative, or under an absolute floor of 3e-8 x the ray's span x
+/// the integrand's size (such rays are counted): where a ray touches a sphere or a cone, the
+/// crossing is a near-double root whose position rounding alone moves by ~sqrt(1e-16) of the
+/// radius, in any implementation (the reference included).
+void checkRay(const SphericalTraversal& traversal, const dvec3& p, const dvec3& d, double tmin,
+  double tmax, RayCheck& stats, const char* what, bool onBoundary = false)
+{
+  const SphericalGrid& g = traversal.grid();
+  std::vector<CellSegment> segments;
+  traversal.traverse(p, d, tmin, tmax, segments);
+  // Reference pieces.
+  const std::vector<double> ts = allCrossings(g, p, d, tmin, tmax);
+  double length = 0.0, step = 0.0, radiusSquared = 0.0;
+  for (std::size_t i = 0; i + 1 < ts.size(); ++i)
+  {
+    if (!(ts[i + 1] > ts[i]))
+      continue;
+    const Classified c = classify(g, p + 0.5 * (ts[i] + ts[i + 1]) * d);
+    if (!c.inside)
+      continue;
+    length += ts[i + 1] - ts[i];
+    step += stepValue(g, c.r, c.theta, c.phi) * (ts[i + 1] - ts[i]);
+    radiusSquared += integralOfRadiusSquared(p, d, ts[i], ts[i + 1]);
+  }
+  double ourLength = 0.0, ourStep = 0.0, ourRadiusSquared = 0.0, previous = tmin;
+  for (const CellSegment& s : segments)
+  {
+    ASSERT_GT(s.t1, s.t0) << what;
+    ASSERT_GE(s.t0, previous - 1e-12 * (1.0 + std::abs(previous))) << what << ": segments out of order";
+    previous = s.t1;
+    ourLength += s.t1 - s.t0;
+    ourStep += stepValue(g, s.r, s.theta, s.phi) * (s.t1 - s.t0);
+    ourRadiusSquared += integralOfRadiusSquared(p, d, s.t0, s.t1);
+    if (s.t1 - s.t0 > 1e-7 && !onBoundary)
+    {
+      const Classified c = classify(g, p + 0.5 * (s.t0 + s.t1) * d);
+      EXPECT_TRUE(c.inside && c.r == s.r && c.theta == s.theta && c.phi == s.phi)
+        << what << ": segment [" << s.t0 << ", " << s.t1 << "] names cell (" << s.r << ", " << s.theta
+        << ", " << s.phi << "), its midpoint is in (" << c.r << ", " << c.theta << ", " << c.phi << ")";
+    }
+  }
+  ++stats.rays;
+  stats.hitting += length > 0.0;
+  const double scale = tmax - tmin;
+  const double outer = g.radius.back();
+  // Relative error, or 0 when the difference is under the tangency floor (counted apart).
+  bool usedFloor = false;
+  auto relative = [&](double ours, double reference, double size)
+  {
+    const double difference = std::abs(ours - reference);
+    const double raw = difference / std::max(std::abs(reference), 1e-300);
+    if (raw < 1e-9)
+      return raw;
+    if (difference <= 3e-8 * scale * size)
+    {
+      usedFloor = true;
+      return 0.0;
+    }
+    return raw;
+  };
+  const double e1 = relative(ourLength, length, 1.0);
+  const double e2 = onBoundary ? 0.0 : relative(ourStep, step, 5.0);
+  const double e3 = relative(ourRadiusSquared, radiusSquared, outer * outer);
+  stats.nearTangent += usedFloor;
+  if (!usedFloor)
+  {
+    stats.worstLength = std::max(stats.worstLength, e1);
+    stats.worstStep = std::max(stats.worstStep, e2);
+    stats.worstRadiusSquared = std::max(stats.worstRadiusSquared, e3);
+  }
+  EXPECT_LT(e1, 1e-9) << what << ": chord " << ourLength << " against " << length;
+  EXPECT_LT(e2, 1e-9) << what << ": step-function projection " << ourStep << " against " << step;
+  EXPECT_LT(e3, 1e-9) << what << ": r^2 projection " << ourRadiusSquared << " against " << radiusSquared;
+}
+
+void checkAllRayClasses(const SphericalGrid& grid, const char* name)
+{
+  const SphericalTraversal traversal(grid);
+  std::mt19937 rng(61);
+  std::normal_distribution<double> n;
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto direction = [&] { return glm::normalize(dvec3(n(rng), n(rng), n(rng))); };
+  RayCheck stats;
+  const double far = 4.0;
+  for (int i = 0; i < 300; ++i) // random rays from outside
+  {
+    const dvec3 d = direction();
+    const dvec3 target = 1.5 * dvec3(u(rng), u(rng), u(rng));
+    checkRay(traversal, target - far * d, d, 0.0, 2.0 * far, stats, "random");
+  }
+  for (int i = 0; i < 60; ++i) // through the origin
+  {
+    const dvec3 d = direction();
+    checkRay(traversal, -far * d, d, 0.0, 2.0 * far, stats, "through the origin");
+  }
+  for (double sign : { 1.0, -1.0 }) // along the polar axis, and parallel to it
+  {
+    checkRay(traversal, dvec3(0, 0, -sign * far), dvec3(0, 0, sign), 0.0, 2.0 * far, stats, "polar axis");
+    checkRay(traversal, dvec3(0.3, -0.2, -sign * far), dvec3(0, 0, sign), 0.0, 2.0 * far, stats, "vertical");
+  }
+  for (double r : grid.radius) // tangent to every shell
+  {
+    const dvec3 d = direction();
+    const dvec3 normal = glm::normalize(glm::cross(d, direction()));
+    checkRay(traversal, r * normal - far * d, d, 0.0, 2.0 * far, stats, "tangent to a shell");
+  }
+  for (double theta : grid.polar) // grazing every cone along a tangent line
+  {
+    const dvec3 g(std::sin(theta), 0.0, std::cos(theta));
+    checkRay(traversal, 1.1 * g - dvec3(0, far, 0), dvec3(0, 1, 0), 0.0, 2.0 * far, stats, "grazing a cone");
+    checkRay(traversal, dvec3(0.0), g, -far, far, stats, "along a cone's generator", true);
+  }
+  for (int i = 0; i < 40; ++i) // starting inside the domain
+  {
+    const dvec3 d = direction();
+    const double r = 0.5 * (grid.radius[1] + grid.radius[2]);
+    const double theta = 0.5 * (grid.polar[1] + grid.polar[2]);
+    const double phi = 0.5 * (grid.azimuth[1] + grid.azimuth[2]);
+    const dvec3 o = r * dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    checkRay(traversal, o, d, 0.0, far, stats, "starting inside");
+  }
+  for (int i = 0; i < 60; ++i) // through cell corners
+  {
+    const double r = grid.radius[1 + rng() % (grid.radius.size() - 1)];
+    const double theta = grid.polar[rng() % grid.polar.size()];
+    const double phi = grid.azimuth[rng() % grid.azimuth.size()];
+    const dvec3 corner = r * dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    const dvec3 d = direction();
+    checkRay(traversal, corner - far * d, d, 0.0, 2.0 * far, stats, "through a corner");
+  }
+  for (int i = 0; i < 30; ++i) // through the z axis off the origin
+  {
+    const dvec3 axisPoint(0.0, 0.0, u(rng));
+    dvec3 d = direction();
+    checkRay(traversal, axisPoint - far * d, d, 0.0, 2.0 * far, stats, "through the z axis");
+  }
+  std::printf("%s: %d rays (%d crossing the domain, %d within the tangency floor), worst relative "
+              "errors of the others: chord %.2e, step function %.2e, r^2 %.2e\n",
+    name, stats.rays, stats.hitting, stats.nearTangent, stats.worstLength, stats.worstStep,
+    stats.worstRadiusSquared);
+  EXPECT_GT(stats.hitting, stats.rays / 3);
+}
+} // namespace
+
+TEST(SphericalGrid, FullSphereEveryRayClass)
+{
+  checkAllRayClasses(fullSphere(), "full sphere");
+}
+
+TEST(SphericalGrid, SectionEveryRayClass)
+{
+  checkAllRayClasses(section(), "shell x band x wedge");
+}
+
+TEST(SphericalGrid, PolarGridInAPlane)
+{
+  // 2-D polar: theta spans [0, pi] in one band, rays in the plane z = 0.
+  const SphericalGrid grid{ { 0.0, 0.5, 0.7, 1.6 }, { 0.0, kPi }, { 0.0, 0.5, 2.0, 4.0, 2.0 * kPi } };
+  const SphericalTraversal traversal(grid);
+  std::mt19937 rng(62);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi), u(-1.0, 1.0);
+  RayCheck stats;
+  for (int i = 0; i < 200; ++i)
+  {
+    const dvec3 d(std::cos(angle(rng)), 0.0, 0.0);
+    const double a = angle(rng);
+    const dvec3 dir(std::cos(a), std::sin(a), 0.0);
+    const dvec3 target(u(rng), u(rng), 0.0);
+    checkRay(traversal, target - 3.0 * dir, dir, 0.0, 6.0, stats, "polar");
+    (void)d;
+  }
+  EXPECT_GT(stats.hitting, 150);
+}
+
+TEST(SphericalGrid, SamplersAndBadGrids)
+{
+  const SphericalGrid grid = fullSphere();
+  const SphericalTraversal traversal(grid);
+  std::vector<CellSegment> segments;
+  // Straight through the centre along x: chord 4 (radius 2).
+  traversal.traverse(dvec3(-3, 0.01, 0.02), dvec3(2, 0, 0), 0.0, 10.0, segments);
+  std::vector<double> ones(grid.cellCount(), 1.0);
+  EXPECT_NEAR(projectCellConstant(grid, ones, segments, 2.0), 2.0 * std::sqrt(4.0 - 0.0005), 1e-12);
+  // Emission-absorption in a homogeneous medium: opacity 1 - exp(-k L).
+  auto transfer = [](double) { return TransferSample{ vec3(1.0f, 0.5f, 0.25f), 0.3 }; };
+  const vec4 rgba = emissionAbsorption(grid, ones, transfer, segments, 2.0);
+  const double chord = 2.0 * std::sqrt(4.0 - 0.0005);
+  EXPECT_NEAR(rgba.a, 1.0 - std::exp(-0.3 * chord), 1e-6);
+  EXPECT_NEAR(rgba.r, rgba.a, 1e-6);
+  EXPECT_NEAR(rgba.g, 0.5 * rgba.a, 1e-6);
+  // Early termination: a dense medium stops at the first cells.
+  auto opaque = [](double) { return TransferSample{ vec3(1.0f), 1e6 }; };
+  EXPECT_NEAR(emissionAbsorption(grid, ones, opaque, segments, 2.0).a, 1.0, 1e-3);
+  EXPECT_THROW(projectCellConstant(grid, { 1.0 }, segments, 1.0), std::invalid_argument);
+
+  auto bad = [](SphericalGrid g) { EXPECT_THROW(SphericalTraversal{ g }, std::invalid_argument); };
+  SphericalGrid g = fullSphere();
+  g.radius = { 0.0, 1.0, 0.5 };
+  bad(g); // not monotonic
+  g = fullSphere();
+  g.radius[0] = -0.1;
+  bad(g); // r < 0
+  g = fullSphere();
+  g.polar.back() = 3.5;
+  bad(g); // theta beyond pi
+  g = fullSphere();
+  g.azimuth = { 0.0, 7.0 };
+  bad(g); // phi over 2 pi
+  g = fullSphere();
+  g.azimuth = { 0.0 };
+  bad(g); // one breakpoint
+  g = fullSphere();
+  g.polar[2] = std::nan("");
+  bad(g);
+}

@@ -302,12 +302,10 @@ TEST(SphericalGrid, PolarGridInAPlane)
   RayCheck stats;
   for (int i = 0; i < 200; ++i)
   {
-    const dvec3 d(std::cos(angle(rng)), 0.0, 0.0);
     const double a = angle(rng);
     const dvec3 dir(std::cos(a), std::sin(a), 0.0);
     const dvec3 target(u(rng), u(rng), 0.0);
     checkRay(traversal, target - 3.0 * dir, dir, 0.0, 6.0, stats, "polar");
-    (void)d;
   }
   EXPECT_GT(stats.hitting, 150);
 }

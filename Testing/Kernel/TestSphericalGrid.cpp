@@ -7,6 +7,7 @@
 // segments are ordered and inside the cell they name, their lengths sum to the chord through
 // the domain, and the projections of a step function and of r^2 equal the reference integrals.
 #include "sightline/SphericalGrid.h"
+#include "sightline/SphericalVolume.h"
 
 #include <gtest/gtest.h>
 
@@ -228,6 +229,13 @@ void checkAllRayClasses(const SphericalGrid& grid, const char* name)
     const dvec3 target = 1.5 * dvec3(u(rng), u(rng), u(rng));
     checkRay(traversal, target - far * d, d, 0.0, 2.0 * far, stats, "random");
   }
+  for (int i = 0; i < 100; ++i) // random rays that end, or start, anywhere (before or after
+  {                              // their closest approach to the origin)
+    const dvec3 d = direction();
+    const dvec3 target = 1.5 * dvec3(u(rng), u(rng), u(rng));
+    const double a = far * (1.0 + u(rng)), b = far * (1.0 + u(rng));
+    checkRay(traversal, target - far * d, d, std::min(a, b), std::max(a, b), stats, "ending anywhere");
+  }
   for (int i = 0; i < 60; ++i) // through the origin
   {
     const dvec3 d = direction();
@@ -350,4 +358,68 @@ TEST(SphericalGrid, SamplersAndBadGrids)
   g = fullSphere();
   g.polar[2] = std::nan("");
   bad(g);
+}
+
+TEST(SphericalVolume, HomogeneousShellsAgainstClosedForms)
+{
+  // Extinction k in the shell 1.2 <= r < 2 and none inside: each pixel's opacity is
+  // 1 - exp(-k (chord(2) - chord(1.2))), chord(R) = 2 sqrt(R^2 - b^2) for a ray passing the
+  // centre at distance b. With an opaque sphere of radius 1.2 drawn "by OpenGL" (a depth
+  // limit), only the front part of the shell remains: half of that path.
+  const SphericalGrid grid = fullSphere();
+  const SphericalTraversal traversal(grid);
+  std::vector<double> values(grid.cellCount());
+  for (int ip = 0; ip < grid.azimuthalCells(); ++ip)
+    for (int it = 0; it < grid.polarCells(); ++it)
+      for (int ir = 0; ir < grid.radialCells(); ++ir)
+        values[grid.cellIndex(ir, it, ip)] = grid.radius[std::size_t(ir)] >= 1.2 ? 1.0 : 0.0;
+  const double k = 0.7;
+  auto transfer = [&](double v) { return TransferSample{ vec3(0.2f, 0.6f, 1.0f), v * k }; };
+  CameraParameters parameters;
+  parameters.position = dvec3(0.3, -0.2, 9.0);
+  parameters.focalPoint = dvec3(0.0);
+  parameters.viewAngle = 30.0;
+  const Camera camera = Camera::fromParameters(parameters, 64, 48);
+  auto chord = [](double radius, double b2) { return b2 < radius * radius ? 2.0 * std::sqrt(radius * radius - b2) : 0.0; };
+
+  Framebuffer fb;
+  const SphericalVolumeStatistics stats = renderSphericalVolume(traversal, values, transfer, camera, fb);
+  std::vector<float> core(fb.pixelCount(), 1.0f);
+  int checked = 0;
+  for (int y = 0; y < camera.height(); ++y)
+    for (int x = 0; x < camera.width(); ++x)
+    {
+      const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+      const dvec3 o(ray.origin), d(ray.direction);
+      const double tc = -glm::dot(o, d);
+      const double b2 = glm::dot(o + tc * d, o + tc * d);
+      const double path = chord(2.0, b2) - chord(1.2, b2);
+      const std::size_t i = fb.index(x, y);
+      EXPECT_NEAR(fb.Color[i].a, 1.0 - std::exp(-k * path), 1e-6) << x << ", " << y;
+      if (path > 0.0)
+      {
+        ++checked;
+        EXPECT_NEAR(fb.Color[i].b, 1.0f, 1e-5f); // not premultiplied
+      }
+      if (b2 < 1.44)
+        core[i] = float(camera.windowDepth(o + (tc - std::sqrt(1.44 - b2)) * d));
+    }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(stats.cellsVisited, 0u);
+
+  SphericalVolumeOptions options;
+  options.depthLimit = &core;
+  renderSphericalVolume(traversal, values, transfer, camera, fb, options);
+  for (int y = 0; y < camera.height(); ++y)
+    for (int x = 0; x < camera.width(); ++x)
+    {
+      const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+      const dvec3 o(ray.origin), d(ray.direction);
+      const double tc = -glm::dot(o, d);
+      const double b2 = glm::dot(o + tc * d, o + tc * d);
+      const double path = b2 < 1.44 ? 0.5 * (chord(2.0, b2) - chord(1.2, b2)) : chord(2.0, b2);
+      // The depth limit is a float window depth: a few 1e-5 of path.
+      EXPECT_NEAR(fb.Color[fb.index(x, y)].a, 1.0 - std::exp(-k * path), 2e-4) << x << ", " << y;
+    }
+  EXPECT_THROW(renderSphericalVolume(traversal, { 1.0 }, transfer, camera, fb), std::invalid_argument);
 }

@@ -117,8 +117,9 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   {
     const int first = radialIndex(glm::dot(start, start));
     const int last = radialIndex(glm::dot(end, end));
-    const bool hinge = tClosest > tmin && tClosest < tmax;
-    const int lowest = hinge ? radialIndex(closestSquared) : first;
+    // The lowest shell: at the hinge when it lies inside [tmin, tmax], else at whichever end is
+    // nearer to it (a ray ending before its closest approach only falls).
+    const int lowest = tClosest <= tmin ? first : tClosest >= tmax ? last : radialIndex(closestSquared);
     for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
       radial.push_back({ tClosest - std::sqrt(std::max(0.0, RadiusSquared[std::size_t(i)] - closestSquared) / dd), i - 1 });
     for (int i = lowest; i < last; ++i) // rising: leave shell i through r_{i+1}

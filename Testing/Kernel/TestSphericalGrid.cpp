@@ -6,6 +6,7 @@
 // axis, vertical) and for random rays, on a full sphere and on a section (shell, band, wedge):
 // segments are ordered and inside the cell they name, their lengths sum to the chord through
 // the domain, and the projections of a step function and of r^2 equal the reference integrals.
+#include "sightline/EarthModel.h"
 #include "sightline/SphericalGrid.h"
 #include "sightline/SphericalVolume.h"
 
@@ -422,4 +423,32 @@ TEST(SphericalVolume, HomogeneousShellsAgainstClosedForms)
       EXPECT_NEAR(fb.Color[fb.index(x, y)].a, 1.0 - std::exp(-k * path), 2e-4) << x << ", " << y;
     }
   EXPECT_THROW(renderSphericalVolume(traversal, { 1.0 }, transfer, camera, fb), std::invalid_argument);
+}
+
+TEST(EarthModel, PremDensityAndMassMatchThePublishedValues)
+{
+  // Values printed in Dziewonski and Anderson (1981): centre 13.0885 g/cm^3; either side of
+  // the core-mantle boundary 9.9035 and 5.5665; the Earth's mass 5.974e24 kg (the model's),
+  // moment of inertia aside. Layers are contiguous.
+  EXPECT_NEAR(premDensity(0.0), 13.0885, 1e-12);
+  EXPECT_NEAR(premDensity(3479.999), 9.9035, 5e-4);
+  EXPECT_NEAR(premDensity(3480.0), 5.5665, 5e-4);
+  EXPECT_NEAR(premDensity(6371.0), 1.02, 1e-12);
+  const auto& layers = premLayers();
+  for (std::size_t i = 1; i < layers.size(); ++i)
+    EXPECT_EQ(layers[i].innerRadiusKm, layers[i - 1].outerRadiusKm);
+  const double mass = premMass(6371.0);
+  EXPECT_NEAR(mass / 5.974e24, 1.0, 1e-3);
+  // The closed form against a midpoint sum of 4 pi r^2 rho over 1 m shells.
+  double sum = 0.0;
+  const int n = 6371000;
+  for (int i = 0; i < n; i += 1)
+  {
+    const double r = (i + 0.5) * 1e-3; // km
+    sum += 4.0 * kPi * r * r * premDensity(r);
+  }
+  EXPECT_NEAR(sum * 1e-3 * 1e12 / mass, 1.0, 1e-9);
+  EXPECT_THROW(premDensity(-1.0), std::invalid_argument);
+  EXPECT_THROW(premDensity(std::nan("")), std::invalid_argument);
+  EXPECT_THROW(premMass(7000.0), std::invalid_argument);
 }

@@ -47,6 +47,9 @@ public:
   double windowDepth(const dvec3& worldPoint) const;
   /// The world point seen at pixel coordinates (px, py) with window depth z.
   dvec3 unproject(double px, double py, double windowDepth) const;
+  /// Where the primary ray through (px, py) reaches window depth z (geometry drawn elsewhere,
+  /// e.g. OpenGL's depth buffer): its t, never below the ray's tnear.
+  double primaryRayParameterAt(double px, double py, double windowDepth) const;
 
 private:
   dmat4 WorldToClip;

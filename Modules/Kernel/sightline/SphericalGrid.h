@@ -16,6 +16,7 @@
 
 #include "sightline/Math.h"
 
+#include <cmath>
 #include <functional>
 #include <vector>
 
@@ -100,6 +101,36 @@ struct TransferSample
   vec3 color{ 0.0f };
   double extinction = 0.0; ///< per unit length
 };
+/// The compositing both use: `sampleOf(segment)` gives a segment's TransferSample; cells with
+/// zero extinction are skipped. `firstVisible` receives the t where the first visible cell is
+/// entered (-1 if none), `visited` is incremented per composited segment. Premultiplied RGBA.
+template <class SampleOf>
+vec4 compositeCells(const SampleOf& sampleOf, const std::vector<CellSegment>& segments,
+  double directionLength, double minimumTransmittance, double* firstVisible = nullptr,
+  std::size_t* visited = nullptr)
+{
+  dvec3 color(0.0);
+  double transmittance = 1.0;
+  if (firstVisible)
+    *firstVisible = -1.0;
+  for (const CellSegment& s : segments)
+  {
+    const TransferSample& sample = sampleOf(s);
+    if (!(sample.extinction > 0.0))
+      continue; // fully transparent: nothing to add
+    if (firstVisible && *firstVisible < 0.0)
+      *firstVisible = s.t0;
+    if (visited)
+      ++*visited;
+    const double absorbed = 1.0 - std::exp(-sample.extinction * (s.t1 - s.t0) * directionLength);
+    color += transmittance * absorbed * dvec3(sample.color);
+    transmittance *= 1.0 - absorbed;
+    if (transmittance < minimumTransmittance)
+      break;
+  }
+  return vec4(vec3(color), float(1.0 - transmittance));
+}
+
 vec4 emissionAbsorption(const SphericalGrid& grid, const std::vector<double>& values,
   const std::function<TransferSample(double)>& transfer, const std::vector<CellSegment>& segments,
   double directionLength, double minimumTransmittance = 1e-3);

@@ -1,5 +1,7 @@
 #include "sightline/Camera.h"
 
+#include <algorithm>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <stdexcept>
@@ -87,5 +89,12 @@ dvec3 Camera::unproject(double px, double py, double windowDepth) const
 {
   const dvec3 ndc(2.0 * px / Width - 1.0, 2.0 * py / Height - 1.0, 2.0 * windowDepth - 1.0);
   return project(ClipToWorld, ndc);
+}
+
+double Camera::primaryRayParameterAt(double px, double py, double windowDepth) const
+{
+  const Ray ray = primaryRay(px, py); // unit direction: t is a distance
+  const double t = glm::dot(unproject(px, py, windowDepth) - dvec3(ray.origin), dvec3(ray.direction));
+  return std::max(double(ray.tnear), t);
 }
 } // namespace sightline

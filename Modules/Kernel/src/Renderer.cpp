@@ -242,10 +242,7 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
     // Stop at opaque geometry drawn by someone else (direction is unit: t is a distance).
     const float limit = (*frame.options.depthLimit)[i];
     if (limit < 1.0f)
-    {
-      const dvec3 stop = frame.camera.unproject(x + 0.5, y + 0.5, limit);
-      ray.tfar = std::max(ray.tnear, float(glm::dot(stop - dvec3(ray.origin), dvec3(ray.direction))));
-    }
+      ray.tfar = float(frame.camera.primaryRayParameterAt(x + 0.5, y + 0.5, limit));
   }
   RTCRayHit rh = makeRayHit(ray);
   const bool hit = !frame.scene.empty() && frame.scene.intersect(rh, true);

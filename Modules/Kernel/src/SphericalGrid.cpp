@@ -366,19 +366,13 @@ vec4 emissionAbsorption(const SphericalGrid& grid, const std::vector<double>& va
   if (values.size() != grid.cellCount())
     throw std::invalid_argument("sightline::emissionAbsorption: " + std::to_string(values.size()) +
       " values for " + std::to_string(grid.cellCount()) + " cells");
-  dvec3 color(0.0);
-  double transmittance = 1.0;
-  for (const CellSegment& s : segments)
-  {
-    const TransferSample sample = transfer(values[grid.cellIndex(s.r, s.theta, s.phi)]);
-    if (!(sample.extinction > 0.0))
-      continue; // fully transparent: nothing to add
-    const double absorbed = 1.0 - std::exp(-sample.extinction * (s.t1 - s.t0) * directionLength);
-    color += transmittance * absorbed * dvec3(sample.color);
-    transmittance *= 1.0 - absorbed;
-    if (transmittance < minimumTransmittance)
-      break;
-  }
-  return vec4(vec3(color), float(1.0 - transmittance));
+  TransferSample sample;
+  return compositeCells(
+    [&](const CellSegment& s) -> const TransferSample&
+    {
+      sample = transfer(values[grid.cellIndex(s.r, s.theta, s.phi)]);
+      return sample;
+    },
+    segments, directionLength, minimumTransmittance);
 }
 } // namespace sightline

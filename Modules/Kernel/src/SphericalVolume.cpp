@@ -44,28 +44,15 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
           double tmax = ray.tfar;
           const std::size_t i = framebuffer.index(x, y);
           if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
-            tmax = std::max(double(ray.tnear), glm::dot(camera.unproject(x + 0.5, y + 0.5, (*options.depthLimit)[i]) - o, d));
+            tmax = camera.primaryRayParameterAt(x + 0.5, y + 0.5, (*options.depthLimit)[i]);
           traversal.traverse(o, d, ray.tnear, tmax, segments);
-          dvec3 color(0.0);
-          double transmittance = 1.0, first = -1.0;
-          for (const CellSegment& s : segments)
-          {
-            const TransferSample& sample = cells[grid.cellIndex(s.r, s.theta, s.phi)];
-            if (!(sample.extinction > 0.0))
-              continue; // fully transparent cell: skipped
-            if (first < 0.0)
-              first = s.t0;
-            ++count;
-            const double absorbed = 1.0 - std::exp(-sample.extinction * (s.t1 - s.t0));
-            color += transmittance * absorbed * dvec3(sample.color);
-            transmittance *= 1.0 - absorbed;
-            if (transmittance < options.minimumTransmittance)
-              break;
-          }
-          const double alpha = 1.0 - transmittance;
-          if (!(alpha > 0.0))
+          double first = -1.0;
+          const vec4 rgba = compositeCells(
+            [&](const CellSegment& c) -> const TransferSample& { return cells[grid.cellIndex(c.r, c.theta, c.phi)]; },
+            segments, 1.0, options.minimumTransmittance, &first, &count);
+          if (!(rgba.a > 0.0f))
             continue;
-          framebuffer.Color[i] = vec4(vec3(color / alpha), float(alpha));
+          framebuffer.Color[i] = vec4(vec3(rgba) / rgba.a, rgba.a);
           const dvec3 front = o + first * d;
           framebuffer.Depth[i] = float(std::clamp(camera.windowDepth(front), 0.0, 1.0));
           framebuffer.Distance[i] = float(first);

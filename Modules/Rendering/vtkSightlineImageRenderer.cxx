@@ -14,6 +14,8 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkSightlineMapper.h"
+#include "vtkSightlineSphericalVolumeMapper.h"
+#include "vtkVolume.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -59,6 +61,35 @@ void vtkSightlineImageRenderer::RemoveAllActors()
 {
   this->Actors->RemoveAllItems();
   this->Modified();
+}
+
+void vtkSightlineImageRenderer::AddVolume(vtkVolume* volume)
+{
+  if (volume && !this->Volumes->IsItemPresent(volume))
+  {
+    this->Volumes->AddItem(volume);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveVolume(vtkVolume* volume)
+{
+  if (this->Volumes->IsItemPresent(volume))
+  {
+    this->Volumes->RemoveItem(volume);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveAllVolumes()
+{
+  this->Volumes->RemoveAllItems();
+  this->Modified();
+}
+
+vtkVolumeCollection* vtkSightlineImageRenderer::GetVolumes()
+{
+  return this->Volumes;
 }
 
 vtkActorCollection* vtkSightlineImageRenderer::GetActors()
@@ -110,6 +141,11 @@ void vtkSightlineImageRenderer::ResetCamera()
   {
     renderer->AddActor(actor);
   }
+  this->Volumes->InitTraversal(it);
+  while (vtkVolume* volume = this->Volumes->GetNextVolume(it))
+  {
+    renderer->AddVolume(volume);
+  }
   // vtkRenderer::ResetCamera uses the viewport's aspect; without a window it is 1, so apply
   // this image's aspect the way vtkRenderer does for wide images.
   renderer->ResetCamera();
@@ -154,6 +190,19 @@ vtkMTimeType vtkSightlineImageRenderer::GetMTime()
       }
     }
   }
+  this->Volumes->InitTraversal(it);
+  while (vtkVolume* volume = this->Volumes->GetNextVolume(it))
+  {
+    time = std::max(time, volume->GetMTime()); // includes its property and transfer functions
+    if (vtkAbstractVolumeMapper* mapper = volume->GetMapper())
+    {
+      time = std::max(time, mapper->GetMTime());
+      if (mapper->GetNumberOfInputConnections(0) > 0)
+      {
+        time = std::max(time, mapper->GetInputAlgorithm()->GetMTime());
+      }
+    }
+  }
   return time;
 }
 
@@ -189,7 +238,7 @@ int vtkSightlineImageRenderer::RequestData(
 
   sightline::Framebuffer image(width, height);
   sightline::Framebuffer layer;
-  const int actorCount = this->Actors->GetNumberOfItems();
+  const int actorCount = this->Actors->GetNumberOfItems() + this->Volumes->GetNumberOfItems();
   int done = 0;
   // Opaque actors first, composited by depth as the depth test does when the same actors are
   // drawn into a window; then translucent ones, each stopped at that depth and blended over,
@@ -234,6 +283,29 @@ int vtkSightlineImageRenderer::RequestData(
       }
     }
   }
+  // Volumes last, stopped at the depth drawn so far, as in VTK's volumetric pass.
+  vtkCollectionSimpleIterator volumeIt;
+  this->Volumes->InitTraversal(volumeIt);
+  while (vtkVolume* volume = this->Volumes->GetNextVolume(volumeIt))
+  {
+    if (!volume->GetVisibility())
+    {
+      continue;
+    }
+    auto* mapper = vtkSightlineSphericalVolumeMapper::SafeDownCast(volume->GetMapper());
+    if (!mapper)
+    {
+      vtkWarningMacro(<< "Skipping a volume whose mapper is "
+                      << (volume->GetMapper() ? volume->GetMapper()->GetClassName() : "null")
+                      << "; only vtkSightlineSphericalVolumeMapper renders without OpenGL.");
+      continue;
+    }
+    this->UpdateProgress(double(done++) / std::max(actorCount, 1));
+    if (mapper->RayTrace(volume, this->ActiveCamera, this->Lights, width, height, layer, &image.Depth))
+    {
+      image.blendUnder(layer, true);
+    }
+  }
   this->UpdateProgress(1.0);
 
   output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
@@ -268,5 +340,6 @@ void vtkSightlineImageRenderer::PrintSelf(ostream& os, vtkIndent indent)
      << this->Background[2] << ")\n";
   os << indent << "ActiveCamera: " << this->ActiveCamera << "\n";
   os << indent << "Actors: " << this->Actors->GetNumberOfItems() << "\n";
+  os << indent << "Volumes: " << this->Volumes->GetNumberOfItems() << "\n";
   os << indent << "Lights: " << this->Lights->GetNumberOfItems() << "\n";
 }

@@ -3,7 +3,8 @@
  * @brief   Renders Sightline actors straight to an image, without OpenGL or a window.
  *
  * The GL-free path for batch and server use. Give it actors whose mappers are
- * vtkSightlineMapper subclasses, a camera, an image size, a background and optionally lights
+ * vtkSightlineMapper subclasses (and volumes whose mapper is a
+ * vtkSightlineSphericalVolumeMapper), a camera, an image size, a background and optionally lights
  * (VTK's automatic headlight otherwise); its output is a vtkImageData of Width x Height
  * points with
  * - "Colors": unsigned char RGBA (the active scalars), the actors composited over the
@@ -25,9 +26,11 @@
 #include "SightlineRenderingModule.h" // for export macro
 #include "vtkImageAlgorithm.h"
 #include "vtkNew.h" // for vtkNew
+#include "vtkVolumeCollection.h" // for vtkNew<vtkVolumeCollection>
 
 class vtkActor;
 class vtkActorCollection;
+class vtkVolume;
 class vtkCamera;
 class vtkLight;
 class vtkLightCollection;
@@ -48,6 +51,18 @@ public:
   void RemoveActor(vtkActor* actor);
   void RemoveAllActors();
   vtkActorCollection* GetActors();
+  ///@}
+
+  ///@{
+  /**
+   * Volumes to render after the actors (as VTK's volumetric pass): rays stop at the actors'
+   * depth. Volumes whose mapper is not a vtkSightlineSphericalVolumeMapper are skipped with a
+   * warning.
+   */
+  void AddVolume(vtkVolume* volume);
+  void RemoveVolume(vtkVolume* volume);
+  void RemoveAllVolumes();
+  vtkVolumeCollection* GetVolumes();
   ///@}
 
   ///@{
@@ -102,6 +117,7 @@ protected:
   double Background[3] = { 0.0, 0.0, 0.0 };
   vtkCamera* ActiveCamera = nullptr;
   vtkNew<vtkActorCollection> Actors;
+  vtkNew<vtkVolumeCollection> Volumes;
   vtkNew<vtkLightCollection> Lights;
 
 private:

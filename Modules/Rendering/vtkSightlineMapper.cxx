@@ -1,5 +1,7 @@
 #include "vtkSightlineMapper.h"
 
+#include "SightlineWindowCompositor.h"
+
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCommand.h"
@@ -10,19 +12,11 @@
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
-#include "vtkOpenGLFramebufferObject.h"
-#include "vtkOpenGLQuadHelper.h"
-#include "vtkOpenGLRenderUtilities.h"
 #include "vtkOpenGLRenderWindow.h"
-#include "vtkOpenGLShaderCache.h"
-#include "vtkOpenGLState.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
-#include "vtkShaderProgram.h"
-#include "vtkTextureObject.h"
 #include "vtkTimerLog.h"
-#include "vtk_glew.h"
 
 #include "sightline/EmbreeScene.h"
 #include "sightline/Framebuffer.h"
@@ -49,10 +43,7 @@ public:
   std::vector<unsigned char> Rgba;
 
   // OpenGL resources for the window path.
-  vtkNew<vtkTextureObject> ColorTexture;
-  vtkNew<vtkTextureObject> DepthTexture;
-  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
-  bool TexturesCurrent = false;
+  SightlineWindowCompositor Compositor;
 
   // Translucent actors trace against this empty opaque scene, with their own as the
   // translucent one.
@@ -87,14 +78,6 @@ sightline::Material MaterialFromProperty(vtkProperty* p)
   return m;
 }
 
-const char* const QuadFragmentDeclarations = "uniform sampler2D colorTexture;\n"
-                                             "uniform sampler2D depthTexture;\n";
-// Misses carry window depth 1 and are discarded so whatever VTK drew there stays.
-const char* const QuadFragmentImplementation =
-  "  float depth = texture(depthTexture, texCoord).r;\n"
-  "  if (depth >= 1.0) { discard; }\n"
-  "  gl_FragData[0] = texture(colorTexture, texCoord);\n"
-  "  gl_FragDepth = depth;\n";
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -413,39 +396,12 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   // or depth peeling). The ray tracer composites its layers itself, so it reads the opaque
   // depth from and blends into the window's render framebuffer directly; other translucent
   // geometry is then blended over the tubes whatever its depth.
-  struct RenderFramebufferBinding
-  {
-    vtkOpenGLState* State = nullptr;
-    ~RenderFramebufferBinding()
-    {
-      if (State)
-      {
-        State->PopFramebufferBindings();
-      }
-    }
-  } binding;
+  std::unique_ptr<SightlineWindowCompositor::RenderFramebufferBinding> binding;
   if (translucent)
   {
-    if (vtkOpenGLFramebufferObject* target = window->GetRenderFramebuffer())
-    {
-      binding.State = window->GetState();
-      binding.State->PushFramebufferBindings();
-      target->Bind();
-    }
-    std::vector<float> viewportDepth(static_cast<std::size_t>(width) * height);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(x0, y0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, viewportDepth.data());
-    depthLimit.resize(static_cast<std::size_t>(traceWidth) * traceHeight);
-    for (int ty = 0; ty < traceHeight; ++ty)
-    {
-      const int sy = std::min(height - 1, ty * step + step / 2);
-      for (int tx = 0; tx < traceWidth; ++tx)
-      {
-        const int sx = std::min(width - 1, tx * step + step / 2);
-        depthLimit[static_cast<std::size_t>(ty) * traceWidth + tx] =
-          viewportDepth[static_cast<std::size_t>(sy) * width + sx];
-      }
-    }
+    binding = std::make_unique<SightlineWindowCompositor::RenderFramebufferBinding>(window);
+    depthLimit = SightlineWindowCompositor::ReadDepth(
+      window, x0, y0, width, height, step, traceWidth, traceHeight);
   }
 
   // Everything the frame depends on; an unchanged key reuses the last image.
@@ -479,6 +435,7 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
     key.push_back(1.0);
   }
 
+  bool changed = false;
   if (key != in.FrameKey)
   {
     in.FrameKey.clear();
@@ -489,74 +446,18 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
       return;
     }
     in.Rgba = in.Frame.toRGBA8(sightline::vec3(0.0f));
-    in.TexturesCurrent = false;
     in.FrameKey = key;
+    changed = true;
   }
 
-  // Upload colour (RGBA8) and window depth (R32F) and draw them with a full-viewport quad.
-  if (!in.TexturesCurrent || in.ColorTexture->GetContext() != window)
-  {
-    for (vtkTextureObject* texture : { in.ColorTexture.Get(), in.DepthTexture.Get() })
-    {
-      texture->SetContext(window);
-      texture->SetMinificationFilter(vtkTextureObject::Nearest);
-      texture->SetMagnificationFilter(vtkTextureObject::Nearest);
-      texture->SetWrapS(vtkTextureObject::ClampToEdge);
-      texture->SetWrapT(vtkTextureObject::ClampToEdge);
-    }
-    in.ColorTexture->Create2DFromRaw(
-      traceWidth, traceHeight, 4, VTK_UNSIGNED_CHAR, in.Rgba.data());
-    in.DepthTexture->Create2DFromRaw(
-      traceWidth, traceHeight, 1, VTK_FLOAT, in.Frame.Depth.data());
-    in.TexturesCurrent = true;
-  }
-
-  if (!in.Quad)
-  {
-    std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
-    vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", QuadFragmentDeclarations);
-    vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", QuadFragmentImplementation);
-    in.Quad = std::make_unique<vtkOpenGLQuadHelper>(window,
-      vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fragment.c_str(), "");
-  }
-  else
-  {
-    window->GetShaderCache()->ReadyShaderProgram(in.Quad->Program);
-  }
-  if (!in.Quad->Program || !in.Quad->Program->GetCompiled())
+  // Translucent surfaces write no depth, as VTK's alpha blending.
+  if (!in.Compositor.Draw(window, traceWidth, traceHeight, in.Rgba.data(), in.Frame.Depth.data(),
+        changed,
+        translucent ? SightlineWindowCompositor::Blending::Premultiplied
+                    : SightlineWindowCompositor::Blending::Replace))
   {
     vtkErrorMacro(<< "Could not compile the compositing shader.");
-    this->InvokeEvent(vtkCommand::EndEvent, nullptr);
-    return;
   }
-
-  vtkOpenGLState* state = window->GetState();
-  vtkOpenGLState::ScopedglDepthMask depthMask(state);
-  vtkOpenGLState::ScopedglDepthFunc depthFunc(state);
-  vtkOpenGLState::ScopedglEnableDisable blend(state, GL_BLEND);
-  vtkOpenGLState::ScopedglBlendFuncSeparate blendFunction(state);
-  state->vtkglEnable(GL_DEPTH_TEST);
-  state->vtkglDepthFunc(GL_LEQUAL);
-  if (translucent)
-  {
-    // Colours are premultiplied (composited over black); the rays already stopped at the
-    // opaque depth, and translucent surfaces write no depth, as VTK's alpha blending.
-    state->vtkglEnable(GL_BLEND);
-    state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    state->vtkglDepthMask(GL_FALSE);
-  }
-  else
-  {
-    state->vtkglDepthMask(GL_TRUE);
-  }
-
-  in.ColorTexture->Activate();
-  in.DepthTexture->Activate();
-  in.Quad->Program->SetUniformi("colorTexture", in.ColorTexture->GetTextureUnit());
-  in.Quad->Program->SetUniformi("depthTexture", in.DepthTexture->GetTextureUnit());
-  in.Quad->Render();
-  in.DepthTexture->Deactivate();
-  in.ColorTexture->Deactivate();
 
   this->InvokeEvent(vtkCommand::EndEvent, nullptr);
 }
@@ -564,15 +465,7 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
 //------------------------------------------------------------------------------
 void vtkSightlineMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
-  vtkInternals& in = *this->Internals;
-  in.ColorTexture->ReleaseGraphicsResources(window);
-  in.DepthTexture->ReleaseGraphicsResources(window);
-  if (in.Quad)
-  {
-    in.Quad->ReleaseGraphicsResources(window);
-    in.Quad.reset();
-  }
-  in.TexturesCurrent = false;
+  this->Internals->Compositor.ReleaseGraphicsResources(window);
   this->Superclass::ReleaseGraphicsResources(window);
 }
 

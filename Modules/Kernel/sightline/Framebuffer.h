@@ -40,8 +40,10 @@ public:
 
   /// Puts this image behind a translucent layer `front` (alpha blending, "over"): colours and
   /// alpha blend, depth and distance stay this image's, as translucent surfaces drawn with
-  /// alpha blending write no depth.
-  void blendUnder(const Framebuffer& front);
+  /// alpha blending write no depth; unless `nearerDepth`, where pixels the layer covers take
+  /// its depth and distance when they are nearer (volumes write the depth of their first
+  /// visible sample).
+  void blendUnder(const Framebuffer& front, bool nearerDepth = false);
 
 private:
   int Width = 0;

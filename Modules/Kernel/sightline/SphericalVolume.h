@@ -5,6 +5,7 @@
 
 #include "sightline/Camera.h"
 #include "sightline/Framebuffer.h"
+#include "sightline/Shading.h"
 #include "sightline/SphericalGrid.h"
 
 #include <functional>
@@ -19,6 +20,9 @@ struct SphericalVolumeOptions
   const std::vector<float>* depthLimit = nullptr;
   /// The march stops once the transmittance falls below this (early ray termination).
   double minimumTransmittance = 1e-3;
+  /// Called after each band of rows with the fraction done; returning false stops the frame
+  /// (the rows not yet traced stay empty).
+  std::function<bool(double)> progress;
 };
 
 struct SphericalVolumeStatistics
@@ -35,4 +39,23 @@ struct SphericalVolumeStatistics
 SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
   const std::vector<double>& values, const std::function<TransferSample(double)>& transfer,
   const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options = {});
+
+/// The same with each cell's colour and extinction given (ordered as SphericalGrid::cellIndex),
+/// e.g. already shaded by shadeCells. Throws std::invalid_argument for a wrong count.
+SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
+  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options = {});
+
+/// Cartesian gradient of a cell-constant field at each cell centre, by central differences
+/// between neighbouring cells in r, theta and phi (one-sided at the section's edges, across
+/// phi = 0 on a full circle), in the local frame (e_r, e_theta / r, e_phi / (r sin theta)).
+std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values);
+
+/// Lights each cell's colour as a surface whose normal is the field's gradient (VTK's volume
+/// shading, two-sided), seen from the camera: Phong with the material's ambient, diffuse and
+/// specular terms. Cells with a zero gradient keep their unlit colour times (ambient + diffuse).
+/// Shading per cell, not per sample: the field is constant inside a cell.
+void shadeCells(const SphericalGrid& grid, const std::vector<dvec3>& gradients,
+  const Material& material, const Lighting& lighting, const Camera& camera,
+  std::vector<TransferSample>& cells);
 } // namespace sightline

@@ -64,7 +64,7 @@ void Framebuffer::compositeNearest(const Framebuffer& other)
   }
 }
 
-void Framebuffer::blendUnder(const Framebuffer& front)
+void Framebuffer::blendUnder(const Framebuffer& front, bool nearerDepth)
 {
   if (front.Width != Width || front.Height != Height)
     throw std::invalid_argument("sightline::Framebuffer::blendUnder: sizes differ");
@@ -77,6 +77,11 @@ void Framebuffer::blendUnder(const Framebuffer& front)
     const float alpha = f.a + (1.0f - f.a) * b.a;
     const vec3 premultiplied = f.a * vec3(f) + (1.0f - f.a) * b.a * vec3(b);
     Color[i] = vec4(premultiplied / alpha, alpha);
+    if (nearerDepth && front.Depth[i] < Depth[i])
+    {
+      Depth[i] = front.Depth[i];
+      Distance[i] = front.Distance[i];
+    }
   }
 }
 } // namespace sightline

@@ -1,0 +1,512 @@
+#include "vtkSightlineSphericalVolumeMapper.h"
+
+#include "SightlineWindowCompositor.h"
+#include "vtkSightlineMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkCellData.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCommand.h"
+#include "vtkDataArray.h"
+#include "vtkAlgorithm.h"
+#include "vtkInformation.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRectilinearGrid.h"
+#include "vtkRenderer.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include "sightline/Framebuffer.h"
+#include "sightline/SphericalFields.h"
+#include "sightline/SphericalVolume.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <limits>
+
+class vtkSightlineSphericalVolumeMapper::vtkInternals
+{
+public:
+  // The input as a kernel grid and cell values, rebuilt when the input or the mapper change.
+  std::unique_ptr<sightline::SphericalTraversal> Traversal;
+  std::vector<double> Values;
+  std::vector<sightline::dvec3> Gradients; // computed on first use with shading
+  vtkTimeStamp GridTime;
+  double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
+
+  // Transfer-function samples per cell, rebuilt when the values or the property change.
+  std::vector<sightline::TransferSample> Unshaded;
+  vtkMTimeType UnshadedPropertyTime = 0;
+  vtkMTimeType UnshadedGridTime = 0;
+
+  // Last window frame, reused while nothing that affects it changes.
+  sightline::Framebuffer Frame;
+  std::vector<double> FrameKey;
+  std::vector<std::uint8_t> Rgba;
+  SightlineWindowCompositor Compositor;
+};
+
+vtkStandardNewMacro(vtkSightlineSphericalVolumeMapper);
+
+//------------------------------------------------------------------------------
+vtkSightlineSphericalVolumeMapper::vtkSightlineSphericalVolumeMapper()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkSightlineSphericalVolumeMapper::~vtkSightlineSphericalVolumeMapper() = default;
+
+//------------------------------------------------------------------------------
+int vtkSightlineSphericalVolumeMapper::FillInputPortInformation(
+  int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkRectilinearGrid");
+  return 1;
+}
+
+namespace
+{
+std::vector<double> Coordinates(vtkDataArray* array, double scale)
+{
+  std::vector<double> values;
+  if (array)
+  {
+    values.resize(static_cast<std::size_t>(array->GetNumberOfTuples()));
+    for (std::size_t i = 0; i < values.size(); ++i)
+    {
+      values[i] = array->GetComponent(static_cast<vtkIdType>(i), 0) * scale;
+    }
+  }
+  return values;
+}
+
+// Box of a spherical section: the extremes of x, y and z lie at the ends of each coordinate
+// range or where an axis is crossed inside it.
+void SectionBounds(const sightline::SphericalGrid& grid, double bounds[6])
+{
+  const double pi = vtkMath::Pi();
+  std::vector<double> thetas{ grid.polar.front(), grid.polar.back() };
+  for (double t : { 0.0, 0.5 * pi, pi })
+  {
+    if (t > grid.polar.front() && t < grid.polar.back())
+    {
+      thetas.push_back(t);
+    }
+  }
+  std::vector<double> phis{ grid.azimuth.front(), grid.azimuth.back() };
+  for (int quarter = -8; quarter <= 8; ++quarter)
+  {
+    const double p = 0.5 * pi * quarter;
+    if (p > grid.azimuth.front() && p < grid.azimuth.back())
+    {
+      phis.push_back(p);
+    }
+  }
+  bounds[0] = bounds[2] = bounds[4] = std::numeric_limits<double>::infinity();
+  bounds[1] = bounds[3] = bounds[5] = -std::numeric_limits<double>::infinity();
+  for (double r : { grid.radius.front(), grid.radius.back() })
+  {
+    for (double t : thetas)
+    {
+      for (double p : phis)
+      {
+        const sightline::dvec3 x = sightline::sphericalToCartesian(r, t, p);
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          bounds[2 * axis] = std::min(bounds[2 * axis], x[axis]);
+          bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], x[axis]);
+        }
+      }
+    }
+  }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
+{
+  vtkInternals& in = *this->Internals;
+  if (this->GetNumberOfInputConnections(0) > 0)
+  {
+    this->GetInputAlgorithm()->Update();
+  }
+  auto* input = vtkRectilinearGrid::SafeDownCast(this->GetInputDataObject(0, 0));
+  if (!input)
+  {
+    vtkErrorMacro(<< "No input: connect a vtkRectilinearGrid whose x, y, z are r, theta, phi.");
+    in.Traversal.reset();
+    return false;
+  }
+  if (in.Traversal && in.GridTime > input->GetMTime() && in.GridTime > this->GetMTime())
+  {
+    return true;
+  }
+  in.Traversal.reset();
+  in.Gradients.clear();
+
+  const double angleScale = this->AngleUnits == DEGREES ? vtkMath::Pi() / 180.0 : 1.0;
+  sightline::SphericalGrid grid;
+  grid.radius = Coordinates(input->GetXCoordinates(), 1.0);
+  grid.polar = Coordinates(input->GetYCoordinates(), angleScale);
+  grid.azimuth = Coordinates(input->GetZCoordinates(), angleScale);
+  const bool latitude = this->PolarAngle == LATITUDE;
+  if (latitude)
+  {
+    // Colatitude = pi/2 - latitude reverses the order of the polar breakpoints and cells.
+    for (double& b : grid.polar)
+    {
+      b = 0.5 * vtkMath::Pi() - b;
+    }
+    std::reverse(grid.polar.begin(), grid.polar.end());
+  }
+  // Degrees converted to radians may land a rounding error outside [0, pi].
+  for (double& b : grid.polar)
+  {
+    if (std::abs(b) < 1e-12)
+      b = 0.0;
+    if (std::abs(b - vtkMath::Pi()) < 1e-12)
+      b = vtkMath::Pi();
+  }
+  try
+  {
+    grid.validate();
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "The input is not a spherical grid (x = r, y = "
+                  << (latitude ? "latitude" : "colatitude") << ", z = azimuth, angles in "
+                  << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "): " << e.what());
+    return false;
+  }
+
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input, this->ScalarMode,
+    this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  if (!scalars)
+  {
+    vtkErrorMacro(<< "The input has no scalars to render (point or cell data; see ScalarMode and "
+                     "SelectScalarArray).");
+    return false;
+  }
+  const int nr = grid.radialCells(), nt = grid.polarCells(), np = grid.azimuthalCells();
+  const vtkIdType expected = cellFlag == 1 ? vtkIdType(grid.cellCount())
+                                           : vtkIdType(nr + 1) * vtkIdType(nt + 1) * vtkIdType(np + 1);
+  if (scalars->GetNumberOfTuples() != expected)
+  {
+    vtkErrorMacro(<< "The scalar array '" << (scalars->GetName() ? scalars->GetName() : "")
+                  << "' has " << scalars->GetNumberOfTuples() << " tuples for " << expected
+                  << (cellFlag == 1 ? " cells." : " points."));
+    return false;
+  }
+  if (scalars->GetNumberOfComponents() > 1)
+  {
+    vtkWarningMacro(<< "Only the first of the " << scalars->GetNumberOfComponents()
+                    << " components of '" << (scalars->GetName() ? scalars->GetName() : "")
+                    << "' is rendered.");
+  }
+  in.Values.assign(grid.cellCount(), 0.0);
+  vtkIdType nanCount = 0;
+  for (int k = 0; k < np; ++k)
+  {
+    for (int j = 0; j < nt; ++j)
+    {
+      const int jInput = latitude ? nt - 1 - j : j;
+      for (int i = 0; i < nr; ++i)
+      {
+        double value = 0.0;
+        if (cellFlag == 1)
+        {
+          value = scalars->GetComponent(i + vtkIdType(nr) * (jInput + vtkIdType(nt) * k), 0);
+        }
+        else
+        {
+          // Point data: the mean of the cell's eight corners.
+          for (int corner = 0; corner < 8; ++corner)
+          {
+            const vtkIdType pi = i + (corner & 1), pj = jInput + ((corner >> 1) & 1),
+                            pk = k + ((corner >> 2) & 1);
+            value += scalars->GetComponent(pi + vtkIdType(nr + 1) * (pj + vtkIdType(nt + 1) * pk), 0);
+          }
+          value *= 0.125;
+        }
+        if (std::isnan(value))
+        {
+          ++nanCount;
+        }
+        in.Values[grid.cellIndex(i, j, k)] = value;
+      }
+    }
+  }
+  if (nanCount > 0)
+  {
+    vtkWarningMacro(<< nanCount << " cells have NaN values; they are drawn empty.");
+  }
+  SectionBounds(grid, in.Bounds);
+  in.Traversal = std::make_unique<sightline::SphericalTraversal>(std::move(grid));
+  in.GridTime.Modified();
+  return true;
+}
+
+//------------------------------------------------------------------------------
+double* vtkSightlineSphericalVolumeMapper::GetBounds()
+{
+  if (!this->UpdateGrid())
+  {
+    vtkMath::UninitializeBounds(this->Bounds);
+    return this->Bounds;
+  }
+  std::copy(this->Internals->Bounds, this->Internals->Bounds + 6, this->Bounds);
+  return this->Bounds;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* camera,
+  vtkLightCollection* lights, int width, int height, sightline::Framebuffer& framebuffer,
+  const std::vector<float>* depthLimit)
+{
+  if (!volume || !camera)
+  {
+    vtkErrorMacro(<< "RayTrace needs a volume and a camera.");
+    return false;
+  }
+  if (width <= 0 || height <= 0)
+  {
+    vtkErrorMacro(<< "Cannot ray-cast an image of " << width << "x" << height << " pixels.");
+    return false;
+  }
+  framebuffer.resize(width, height);
+  if (!this->UpdateGrid())
+  {
+    return false;
+  }
+  if (depthLimit && depthLimit->size() != static_cast<std::size_t>(width) * height)
+  {
+    vtkErrorMacro(<< "The depth limit has " << depthLimit->size() << " values for " << width
+                  << "x" << height << " pixels.");
+    return false;
+  }
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    vtkErrorMacro(<< "Blend mode " << this->BlendMode
+                  << " is not supported; vtkSightlineSphericalVolumeMapper composites "
+                     "(SetBlendModeToComposite).");
+    return false;
+  }
+  vtkVolumeProperty* property = volume->GetProperty();
+  vtkInternals& in = *this->Internals;
+
+  // Colour and extinction per cell: the transfer functions once per cell, not per ray.
+  if (in.Unshaded.size() != in.Values.size() || in.UnshadedPropertyTime != property->GetMTime() ||
+    in.UnshadedGridTime != in.GridTime.GetMTime())
+  {
+    vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+    vtkColorTransferFunction* color =
+      property->GetColorChannels(0) == 3 ? property->GetRGBTransferFunction(0) : nullptr;
+    vtkPiecewiseFunction* gray =
+      property->GetColorChannels(0) == 1 ? property->GetGrayTransferFunction(0) : nullptr;
+    const double unit = property->GetScalarOpacityUnitDistance(0);
+    in.Unshaded.assign(in.Values.size(), sightline::TransferSample{});
+    for (std::size_t c = 0; c < in.Values.size(); ++c)
+    {
+      const double v = in.Values[c];
+      if (std::isnan(v))
+      {
+        continue;
+      }
+      const double a = opacity->GetValue(v);
+      if (!(a > 0.0))
+      {
+        continue;
+      }
+      sightline::TransferSample& sample = in.Unshaded[c];
+      sample.extinction =
+        a >= 1.0 ? std::numeric_limits<double>::infinity() : -std::log1p(-a) / unit;
+      if (color)
+      {
+        double rgb[3];
+        color->GetColor(v, rgb);
+        sample.color = sightline::vec3(rgb[0], rgb[1], rgb[2]);
+      }
+      else
+      {
+        sample.color = sightline::vec3(static_cast<float>(gray ? gray->GetValue(v) : 1.0));
+      }
+    }
+    in.UnshadedPropertyTime = property->GetMTime();
+    in.UnshadedGridTime = in.GridTime.GetMTime();
+  }
+
+  const double aspect = double(width) / height;
+  const sightline::dmat4 objectToWorld = vtkSightlineMapper::ToKernelMatrix(volume->GetMatrix());
+  const sightline::dmat4 worldToClip =
+    vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1));
+  try
+  {
+    const sightline::Camera view(worldToClip * objectToWorld, width, height);
+    const sightline::SphericalGrid& grid = in.Traversal->grid();
+    std::vector<sightline::TransferSample> shaded;
+    const std::vector<sightline::TransferSample>* cells = &in.Unshaded;
+    if (property->GetShade(0))
+    {
+      if (in.Gradients.empty())
+      {
+        in.Gradients = sightline::sphericalCellGradients(grid, in.Values);
+      }
+      sightline::Material material;
+      material.ambient = static_cast<float>(property->GetAmbient(0));
+      material.diffuse = static_cast<float>(property->GetDiffuse(0));
+      material.specular = static_cast<float>(property->GetSpecular(0));
+      material.specularPower = static_cast<float>(property->GetSpecularPower(0));
+      // Lights travel in world space; the cells are lit in the grid's own coordinates.
+      sightline::Lighting lighting = vtkSightlineMapper::MakeLighting(lights, camera);
+      const glm::dmat3 worldToGrid = glm::inverse(glm::dmat3(objectToWorld));
+      for (auto& light : lighting.lights)
+      {
+        light.direction =
+          sightline::vec3(glm::normalize(worldToGrid * sightline::dvec3(light.direction)));
+      }
+      shaded = in.Unshaded;
+      sightline::shadeCells(grid, in.Gradients, material, lighting, view, shaded);
+      cells = &shaded;
+    }
+    sightline::SphericalVolumeOptions options;
+    options.depthLimit = depthLimit;
+    options.minimumTransmittance = this->MinimumTransmittance;
+    options.progress = [this](double fraction)
+    {
+      this->UpdateProgress(fraction);
+      return !this->AbortExecute;
+    };
+    const sightline::SphericalVolumeStatistics stats =
+      sightline::renderSphericalVolume(*in.Traversal, *cells, view, framebuffer, options);
+    this->LastFrameSeconds = stats.seconds;
+    this->LastCellsVisited = static_cast<vtkIdType>(stats.cellsVisited);
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "Ray casting failed: " << e.what());
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineSphericalVolumeMapper::Render(vtkRenderer* renderer, vtkVolume* volume)
+{
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  renderer->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width <= 0 || height <= 0)
+  {
+    return;
+  }
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!window)
+  {
+    vtkErrorMacro(<< "vtkSightlineSphericalVolumeMapper needs an OpenGL render window.");
+    return;
+  }
+  vtkCamera* camera = renderer->GetActiveCamera();
+  vtkInternals& in = *this->Internals;
+  this->InvokeEvent(vtkCommand::StartEvent, nullptr);
+  if (!this->UpdateGrid())
+  {
+    this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+    return;
+  }
+
+  const int step =
+    window->GetDesiredUpdateRate() > this->InteractiveUpdateRate ? this->InteractiveSubsampling : 1;
+  const int traceWidth = (width + step - 1) / step;
+  const int traceHeight = (height + step - 1) / step;
+
+  // The geometry drawn so far (opaque, translucent) is in the render framebuffer; rays stop at
+  // its depth.
+  SightlineWindowCompositor::RenderFramebufferBinding binding(window);
+  const std::vector<float> depthLimit =
+    SightlineWindowCompositor::ReadDepth(window, x0, y0, width, height, step, traceWidth, traceHeight);
+
+  // Everything the frame depends on; an unchanged key reuses the last image.
+  std::vector<double> key;
+  vtkMatrix4x4* projection =
+    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
+  key.insert(key.end(), &projection->Element[0][0], &projection->Element[0][0] + 16);
+  vtkMatrix4x4* model = volume->GetMatrix();
+  key.insert(key.end(), &model->Element[0][0], &model->Element[0][0] + 16);
+  key.push_back(traceWidth);
+  key.push_back(traceHeight);
+  key.push_back(static_cast<double>(in.GridTime.GetMTime()));
+  key.push_back(static_cast<double>(volume->GetProperty()->GetMTime()));
+  key.push_back(static_cast<double>(this->GetMTime()));
+  for (const auto& light : vtkSightlineMapper::MakeLighting(renderer->GetLights(), camera).lights)
+  {
+    key.insert(key.end(), { light.direction.x, light.direction.y, light.direction.z, light.color.r,
+                            light.color.g, light.color.b, light.intensity });
+  }
+  std::uint64_t hash = 1469598103934665603ull; // FNV-1a of the depth the rays stop at
+  for (float d : depthLimit)
+  {
+    std::uint32_t bits;
+    std::memcpy(&bits, &d, sizeof(bits));
+    hash = (hash ^ bits) * 1099511628211ull;
+  }
+  key.push_back(static_cast<double>(hash >> 11));
+
+  bool changed = false;
+  if (key != in.FrameKey)
+  {
+    in.FrameKey.clear();
+    if (!this->RayTrace(volume, camera, renderer->GetLights(), traceWidth, traceHeight, in.Frame,
+          &depthLimit))
+    {
+      this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+      return;
+    }
+    in.Rgba = in.Frame.toRGBA8(sightline::vec3(0.0f));
+    in.FrameKey = key;
+    changed = true;
+  }
+  if (!in.Compositor.Draw(window, traceWidth, traceHeight, in.Rgba.data(), in.Frame.Depth.data(),
+        changed, SightlineWindowCompositor::Blending::PremultipliedDepth))
+  {
+    vtkErrorMacro(<< "Could not compile the compositing shader.");
+  }
+  this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineSphericalVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Internals->Compositor.ReleaseGraphicsResources(window);
+  this->Superclass::ReleaseGraphicsResources(window);
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineSphericalVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "AngleUnits: " << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "\n";
+  os << indent << "PolarAngle: " << (this->PolarAngle == LATITUDE ? "latitude" : "colatitude")
+     << "\n";
+  os << indent << "MinimumTransmittance: " << this->MinimumTransmittance << "\n";
+  os << indent << "InteractiveSubsampling: " << this->InteractiveSubsampling << "\n";
+  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
+  os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";
+  os << indent << "LastCellsVisited: " << this->LastCellsVisited << "\n";
+  if (const auto& traversal = this->Internals->Traversal)
+  {
+    const sightline::SphericalGrid& grid = traversal->grid();
+    os << indent << "Grid: " << grid.radialCells() << " x " << grid.polarCells() << " x "
+       << grid.azimuthalCells() << " cells\n";
+  }
+}

@@ -1,0 +1,178 @@
+/**
+ * @class   vtkSightlineSphericalVolumeMapper
+ * @brief   Volume mapper that ray-casts spherical grids (r, theta, phi) natively, cell by cell.
+ *
+ * The input is a vtkRectilinearGrid whose x, y and z coordinates are the radius r, the polar
+ * angle and the azimuth phi of a spherical grid (breakpoints may be non-uniform; a section,
+ * e.g. a shell, a wedge or a cap, is drawn as such). Every pixel's ray is traversed exactly
+ * through the grid's cells (sightline::SphericalTraversal, after "Ray casting in spherical
+ * coordinates"): no resampling to a Cartesian image, so layer boundaries stay spheres and
+ * cones at any zoom.
+ *
+ * Convention (see SetAngleUnits, SetPolarAngle):
+ * - x: radius r >= 0, in world units (the vtkVolume's matrix places and scales it);
+ * - y: colatitude theta in [0, pi] from +z (default), or latitude in [-pi/2, pi/2];
+ * - z: azimuth phi from +x towards +y, spanning at most 2 pi;
+ * - angles in radians (default) or degrees;
+ * - scalars: cell data is constant per cell (exact); point data is averaged over each cell's
+ *   eight corners. The first component is used. ScalarMode / SelectScalarArray choose the array
+ *   as in other volume mappers.
+ *
+ * Rendering: emission-absorption through the vtkVolumeProperty's colour transfer function and
+ * scalar opacity (component 0); an opacity a per ScalarOpacityUnitDistance u is the extinction
+ * -ln(1 - a) / u, integrated exactly over each cell's length. Cells whose opacity is zero are
+ * skipped, and rays stop once the remaining transmittance is below MinimumTransmittance. With
+ * shading on (vtkVolumeProperty::ShadeOn) each cell is lit as a surface whose normal is the
+ * field's gradient (central differences between neighbouring cells), with the property's
+ * ambient, diffuse, specular and specular power and the renderer's lights. Only COMPOSITE_BLEND
+ * is supported; gradient opacity and cropping are ignored.
+ *
+ * In a window the mapper is drawn in VTK's volumetric pass: it reads the depth of the
+ * geometry drawn before it (a coastline, a core sphere) and stops rays there, then blends its
+ * premultiplied image over the frame and writes the depth where each ray entered its first
+ * visible cell. While the window asks for an interactive rate it traces every
+ * InteractiveSubsampling-th pixel. RayTrace() is the GL-free path (vtkSightlineImageRenderer).
+ *
+ * Bad input (non-monotonic coordinates, r < 0, polar angles outside their range, an azimuth
+ * span over 2 pi, missing scalars, a wrong number of values) is reported with vtkErrorMacro and
+ * nothing is drawn. NaN scalars are treated as empty cells (with a warning).
+ *
+ * @sa vtkSightlineSphericalFieldSource vtkSightlineMapper vtkFixedPointVolumeRayCastMapper
+ */
+#ifndef vtkSightlineSphericalVolumeMapper_h
+#define vtkSightlineSphericalVolumeMapper_h
+
+#include "SightlineRenderingModule.h" // for export macro
+#include "vtkVolumeMapper.h"
+
+#ifndef __VTK_WRAP__
+#include <memory> // for std::unique_ptr
+#include <vector> // for std::vector
+namespace sightline
+{
+class Framebuffer;
+class SphericalTraversal;
+}
+#endif
+
+class vtkCamera;
+class vtkLightCollection;
+class vtkRectilinearGrid;
+
+class SIGHTLINERENDERING_EXPORT vtkSightlineSphericalVolumeMapper : public vtkVolumeMapper
+{
+public:
+  static vtkSightlineSphericalVolumeMapper* New();
+  vtkTypeMacro(vtkSightlineSphericalVolumeMapper, vtkVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum AngleUnit
+  {
+    RADIANS = 0,
+    DEGREES
+  };
+  enum PolarAngleKind
+  {
+    COLATITUDE = 0, ///< 0 at the north pole (+z), pi at the south pole
+    LATITUDE        ///< pi/2 at the north pole, -pi/2 at the south pole
+  };
+
+  ///@{
+  /**
+   * Units of the y (polar) and z (azimuth) coordinates. Default RADIANS.
+   */
+  vtkSetClampMacro(AngleUnits, int, RADIANS, DEGREES);
+  vtkGetMacro(AngleUnits, int);
+  void SetAngleUnitsToRadians() { this->SetAngleUnits(RADIANS); }
+  void SetAngleUnitsToDegrees() { this->SetAngleUnits(DEGREES); }
+  ///@}
+
+  ///@{
+  /**
+   * Meaning of the y coordinate. Default COLATITUDE.
+   */
+  vtkSetClampMacro(PolarAngle, int, COLATITUDE, LATITUDE);
+  vtkGetMacro(PolarAngle, int);
+  void SetPolarAngleToColatitude() { this->SetPolarAngle(COLATITUDE); }
+  void SetPolarAngleToLatitude() { this->SetPolarAngle(LATITUDE); }
+  ///@}
+
+  ///@{
+  /**
+   * Rays stop once the light they still let through falls below this (early ray
+   * termination). Default 0.002 (one 8-bit level).
+   */
+  vtkSetClampMacro(MinimumTransmittance, double, 0.0, 1.0);
+  vtkGetMacro(MinimumTransmittance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Pixel step while the render window asks for an interactive frame rate above
+   * InteractiveUpdateRate (1 disables subsampling). Defaults 2 and 1 frame per second.
+   */
+  vtkSetClampMacro(InteractiveSubsampling, int, 1, 16);
+  vtkGetMacro(InteractiveSubsampling, int);
+  vtkSetMacro(InteractiveUpdateRate, double);
+  vtkGetMacro(InteractiveUpdateRate, double);
+  ///@}
+
+  /**
+   * Seconds the last frame took, and the cell segments it composited.
+   */
+  vtkGetMacro(LastFrameSeconds, double);
+  vtkGetMacro(LastCellsVisited, vtkIdType);
+
+  /**
+   * Ray-cast the volume and draw it into the current viewport (volumetric pass).
+   */
+  void Render(vtkRenderer* renderer, vtkVolume* volume) override;
+
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  /**
+   * World-space bounds of the grid's section (a box around the ball of its largest radius,
+   * tightened where the angles allow), not of its (r, theta, phi) coordinates.
+   */
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  using vtkAbstractMapper3D::GetBounds;
+
+#ifndef __VTK_WRAP__
+  /**
+   * GL-free path: ray-cast the volume as `camera` sees it into a width x height framebuffer
+   * (colour not premultiplied, depth of the first visible cell), stopping rays at
+   * `depthLimit` (window depths, bottom row first) when given. Returns false after reporting
+   * an error when nothing could be rendered. The window path uses this same function.
+   */
+  bool RayTrace(vtkVolume* volume, vtkCamera* camera, vtkLightCollection* lights, int width,
+    int height, sightline::Framebuffer& framebuffer,
+    const std::vector<float>* depthLimit = nullptr);
+#endif
+
+protected:
+  vtkSightlineSphericalVolumeMapper();
+  ~vtkSightlineSphericalVolumeMapper() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  int AngleUnits = RADIANS;
+  int PolarAngle = COLATITUDE;
+  double MinimumTransmittance = 0.002;
+  int InteractiveSubsampling = 2;
+  double InteractiveUpdateRate = 1.0;
+  double LastFrameSeconds = 0.0;
+  vtkIdType LastCellsVisited = 0;
+
+private:
+  vtkSightlineSphericalVolumeMapper(const vtkSightlineSphericalVolumeMapper&) = delete;
+  void operator=(const vtkSightlineSphericalVolumeMapper&) = delete;
+
+  // Brings the kernel grid and cell values up to date with the input; false (after an error)
+  // when there is nothing to draw.
+  bool UpdateGrid();
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

@@ -1,0 +1,417 @@
+// vtkSightlineSphericalVolumeMapper and vtkSightlineSphericalFieldSource: the emission-absorption
+// closed form of a homogeneous ball through the whole VTK path, occlusion by opaque geometry
+// inside the volume in a window against the kernel with the window's depth, the GL-free path
+// against the window, the angle conventions, PREM grids, and bad input.
+#include "SightlineTestUtilities.h"
+
+#include "vtkSightlineMapper.h"
+#include "vtkSightlineImageRenderer.h"
+#include "vtkSightlineSphereMapper.h"
+#include "vtkSightlineSphericalFieldSource.h"
+#include "vtkSightlineSphericalVolumeMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkCellData.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRectilinearGrid.h"
+#include "vtkSphereSource.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include "sightline/EarthModel.h"
+#include "sightline/Framebuffer.h"
+#include "sightline/SphericalFields.h"
+#include "sightline/SphericalVolume.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace sightline_test;
+
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+
+// A volume of the source's output with a colour ramp and opacity per unit distance.
+struct VolumeScene
+{
+  vtkNew<vtkSightlineSphericalFieldSource> source;
+  vtkNew<vtkSightlineSphericalVolumeMapper> mapper;
+  vtkNew<vtkColorTransferFunction> color;
+  vtkNew<vtkPiecewiseFunction> opacity;
+  vtkNew<vtkVolumeProperty> property;
+  vtkNew<vtkVolume> volume;
+
+  VolumeScene()
+  {
+    source->SetRadialResolution(12);
+    source->SetPolarResolution(12);
+    source->SetAzimuthalResolution(24);
+    mapper->SetInputConnection(source->GetOutputPort());
+    color->AddRGBPoint(1.0, 0.2, 0.4, 1.0);
+    color->AddRGBPoint(2.0, 1.0, 0.6, 0.1);
+    opacity->AddPoint(0.0, 0.0);
+    opacity->AddPoint(1.0, 0.3);
+    opacity->AddPoint(2.0, 0.6);
+    property->SetColor(color);
+    property->SetScalarOpacity(opacity);
+    property->SetScalarOpacityUnitDistance(0.5);
+    property->SetInterpolationTypeToNearest();
+    volume->SetMapper(mapper);
+    volume->SetProperty(property);
+  }
+};
+
+vtkSmartPointer<vtkImageData> RenderVolumeWithoutGL(
+  vtkVolume* volume, const std::vector<vtkActor*>& actors, vtkCamera* camera, int width, int height)
+{
+  vtkNew<vtkSightlineImageRenderer> renderer;
+  for (vtkActor* actor : actors)
+    renderer->AddActor(actor);
+  renderer->AddVolume(volume);
+  renderer->SetActiveCamera(camera);
+  renderer->SetSize(width, height);
+  renderer->SetBackground(0, 0, 0);
+  renderer->Update();
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->DeepCopy(renderer->GetOutput());
+  return image;
+}
+
+struct Window
+{
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkRenderWindow> window;
+  Window(int width, int height, int multisamples = 0)
+  {
+    renderer->SetBackground(0, 0, 0);
+    window->AddRenderer(renderer);
+    window->SetSize(width, height);
+    window->SetOffScreenRendering(1);
+    window->SetMultiSamples(multisamples);
+  }
+};
+} // namespace
+
+// A ball of one value seen in parallel projection: every pixel's opacity is
+// 1 - exp(-tau 2 sqrt(1 - b^2)) with tau = -ln(1 - a) / unit distance, b the pixel's distance
+// from the centre. White over black, so the pixel value is 255 times that.
+TEST(SphericalVolumeMapper, HomogeneousBallMatchesTheClosedForm)
+{
+  VolumeScene scene;
+  scene.color->RemoveAllPoints();
+  scene.color->AddRGBPoint(0.0, 1.0, 1.0, 1.0);
+  scene.opacity->RemoveAllPoints();
+  scene.opacity->AddPoint(0.5, 0.4);
+  scene.opacity->AddPoint(2.5, 0.4);
+  const double unit = 0.8;
+  scene.property->SetScalarOpacityUnitDistance(unit);
+  const int size = 64;
+  const double scale = 1.1;
+  auto camera = MakeCamera(true, 10.0, scale);
+  vtkSmartPointer<vtkImageData> image = RenderVolumeWithoutGL(scene.volume, {}, camera, size, size);
+  const double tau = -std::log(1.0 - 0.4) / unit;
+  double worst = 0.0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+    {
+      const double wx = ((x + 0.5) / size * 2.0 - 1.0) * scale;
+      const double wy = ((y + 0.5) / size * 2.0 - 1.0) * scale;
+      const double b2 = wx * wx + wy * wy;
+      const double alpha = b2 < 1.0 ? 1.0 - std::exp(-tau * 2.0 * std::sqrt(1.0 - b2)) : 0.0;
+      worst = std::max(worst, std::abs(Pixel(image, x, y)[0] - 255.0 * alpha));
+    }
+  EXPECT_LE(worst, 1.0) << "8-bit rounding is the only error expected";
+  EXPECT_GT(scene.mapper->GetLastCellsVisited(), 0);
+}
+
+// An opaque sphere inside the volume: the window must show the volume in front of the sphere
+// over the sphere, i.e. the kernel's frame with rays stopped at the sphere's depth, blended
+// over what OpenGL drew.
+TEST(SphericalVolumeMapper, OpaqueGeometryInsideOccludesInTheWindow)
+{
+  const int width = 160, height = 120;
+  VolumeScene scene;
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetCenter(0.25, 0.2, 0.1);
+  sphere->SetRadius(0.35);
+  sphere->SetThetaResolution(64);
+  sphere->SetPhiResolution(64);
+  vtkNew<vtkPolyDataMapper> sphereMapper;
+  sphereMapper->SetInputConnection(sphere->GetOutputPort());
+  vtkNew<vtkActor> sphereActor;
+  sphereActor->SetMapper(sphereMapper);
+  sphereActor->GetProperty()->SetColor(0.1, 0.9, 0.2);
+  auto camera = MakeCamera(false, 5.0);
+  camera->SetPosition(1.5, -3.0, 3.5);
+  camera->SetClippingRange(2.0, 8.0);
+
+  // The sphere alone: its colour and depth.
+  Window alone(width, height);
+  alone.renderer->AddActor(sphereActor);
+  alone.renderer->SetActiveCamera(camera);
+  alone.window->Render();
+  vtkSmartPointer<vtkImageData> behind = CaptureRGB(alone.window);
+  vtkSmartPointer<vtkImageData> depth = CaptureDepth(alone.window);
+
+  Window both(width, height);
+  both.renderer->AddActor(sphereActor);
+  both.renderer->AddVolume(scene.volume);
+  both.renderer->SetActiveCamera(camera);
+  both.window->Render();
+  vtkSmartPointer<vtkImageData> shown = CaptureRGB(both.window);
+  ASSERT_GT(scene.mapper->GetLastCellsVisited(), 0);
+
+  // The kernel's frame with the sphere's depth as the limit.
+  std::vector<float> limit(static_cast<std::size_t>(width) * height);
+  auto* depthValues = vtkFloatArray::SafeDownCast(depth->GetPointData()->GetScalars());
+  ASSERT_NE(depthValues, nullptr);
+  std::copy(depthValues->GetPointer(0), depthValues->GetPointer(0) + limit.size(), limit.begin());
+  sightline::Framebuffer expected, unoccluded;
+  ASSERT_TRUE(scene.mapper->RayTrace(scene.volume, camera, nullptr, width, height, expected, &limit));
+  ASSERT_TRUE(scene.mapper->RayTrace(scene.volume, camera, nullptr, width, height, unoccluded));
+
+  int worst = 0, sphereMarkers = 0, occlusionVisible = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+    {
+      const sightline::vec4 f = expected.Color[expected.index(x, y)];
+      const std::array<int, 3> s = Pixel(behind, x, y), w = Pixel(shown, x, y);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double value = 255.0 * f[c] * f.a + (1.0 - f.a) * s[c];
+        worst = std::max(worst, int(std::lround(std::abs(w[c] - value))));
+      }
+      if (limit[expected.index(x, y)] < 1.0f)
+      {
+        ++sphereMarkers;
+        // Without the limit the ray would go on through the sphere: that frame differs.
+        const sightline::vec4 u = unoccluded.Color[unoccluded.index(x, y)];
+        if (std::abs(u.a - f.a) > 0.05f)
+          ++occlusionVisible;
+      }
+    }
+  EXPECT_LE(worst, 3) << "window differs from volume-over-sphere beyond 8-bit rounding";
+  EXPECT_GT(sphereMarkers, 500);
+  EXPECT_GT(occlusionVisible, sphereMarkers / 2) << "the scene does not exercise occlusion";
+}
+
+// Multisampled windows (VTK's default) must still give the rays the opaque depth.
+TEST(SphericalVolumeMapper, DrawsInMultisampledWindows)
+{
+  VolumeScene scene;
+  Window window(100, 100, 8);
+  window.renderer->AddVolume(scene.volume);
+  window.renderer->SetActiveCamera(MakeCamera(true, 10.0, 1.2));
+  window.window->Render();
+  EXPECT_GT(scene.mapper->GetLastCellsVisited(), 1000);
+  const std::array<int, 3> centre = Pixel(CaptureRGB(window.window), 50, 50);
+  EXPECT_GT(centre[0] + centre[1] + centre[2], 100);
+}
+
+// The GL-free renderer gives the window's pixels: a Sightline sphere inside the volume.
+TEST(SphericalVolumeMapper, ImageRendererMatchesWindow)
+{
+  const int width = 120, height = 100;
+  VolumeScene scene;
+  scene.property->ShadeOn();
+  vtkNew<vtkSightlineSphereMapper> sphereMapper;
+  sphereMapper->SetInputDataObject(MakeSpheres({ { 0.2, -0.1, 0.3 } }, { 0.3 }));
+  vtkNew<vtkActor> sphereActor;
+  sphereActor->SetMapper(sphereMapper);
+  auto camera = MakeCamera(false, 5.0);
+  camera->SetPosition(-2.0, 3.0, 3.0);
+  camera->SetClippingRange(2.0, 8.0);
+
+  Window window(width, height);
+  window.renderer->AddActor(sphereActor);
+  window.renderer->AddVolume(scene.volume);
+  window.renderer->SetActiveCamera(camera);
+  window.window->Render();
+  vtkSmartPointer<vtkImageData> shown = CaptureRGB(window.window);
+  vtkSmartPointer<vtkImageData> batch =
+    RenderVolumeWithoutGL(scene.volume, { sphereActor.Get() }, camera, width, height);
+  int differing = 0;
+  EXPECT_LE(MaxRGBDifference(shown, batch, &differing), 2);
+  EXPECT_GT(CoveredPixels(batch), width * height / 4);
+}
+
+// Degrees and latitude describe the same grid as radians and colatitude: identical images.
+TEST(SphericalVolumeMapper, AngleConventionsAgree)
+{
+  VolumeScene scene;
+  scene.source->SetFieldToPREMDensity();
+  scene.source->SetAzimuthRange(0.0, 1.5 * kPi);
+  scene.source->Update();
+  scene.color->RemoveAllPoints();
+  scene.color->AddRGBPoint(1.0, 0.1, 0.2, 0.9);
+  scene.color->AddRGBPoint(13.1, 1.0, 0.9, 0.2);
+  scene.opacity->RemoveAllPoints();
+  scene.opacity->AddPoint(1.0, 0.1);
+  scene.opacity->AddPoint(13.1, 0.5);
+  auto camera = MakeCamera(false, 5.0);
+  camera->SetPosition(3.0, -2.0, 2.5);
+  camera->SetClippingRange(2.0, 8.0);
+  vtkSmartPointer<vtkImageData> reference = RenderVolumeWithoutGL(scene.volume, {}, camera, 80, 80);
+
+  // The same grid in degrees of latitude, rows of cells in reverse order.
+  vtkRectilinearGrid* radians = scene.source->GetOutput();
+  vtkNew<vtkRectilinearGrid> degrees;
+  const int* dims = radians->GetDimensions();
+  degrees->SetDimensions(dims[0], dims[1], dims[2]);
+  degrees->SetXCoordinates(radians->GetXCoordinates());
+  vtkNew<vtkDoubleArray> latitude, azimuth;
+  for (int j = dims[1] - 1; j >= 0; --j)
+    latitude->InsertNextValue(90.0 - radians->GetYCoordinates()->GetComponent(j, 0) * 180.0 / kPi);
+  for (int k = 0; k < dims[2]; ++k)
+    azimuth->InsertNextValue(radians->GetZCoordinates()->GetComponent(k, 0) * 180.0 / kPi);
+  degrees->SetYCoordinates(latitude);
+  degrees->SetZCoordinates(azimuth);
+  vtkDataArray* values = radians->GetCellData()->GetScalars();
+  vtkNew<vtkDoubleArray> reordered;
+  reordered->SetName("density");
+  reordered->SetNumberOfTuples(values->GetNumberOfTuples());
+  const int nr = dims[0] - 1, nt = dims[1] - 1, np = dims[2] - 1;
+  for (int k = 0; k < np; ++k)
+    for (int j = 0; j < nt; ++j)
+      for (int i = 0; i < nr; ++i)
+        reordered->SetValue(i + nr * ((nt - 1 - j) + nt * k), values->GetComponent(i + nr * (j + nt * k), 0));
+  degrees->GetCellData()->SetScalars(reordered);
+  scene.mapper->SetInputDataObject(degrees);
+  scene.mapper->SetAngleUnitsToDegrees();
+  scene.mapper->SetPolarAngleToLatitude();
+  vtkSmartPointer<vtkImageData> converted = RenderVolumeWithoutGL(scene.volume, {}, camera, 80, 80);
+  EXPECT_LE(MaxRGBDifference(reference, converted), 1);
+  EXPECT_GT(CoveredPixels(reference), 1000);
+}
+
+// PREM grids: every layer boundary is a breakpoint and cells hold PREM's density at their
+// midpoint, perturbed only in the mantle.
+TEST(SphericalFieldSource, PremGridFollowsTheLayers)
+{
+  vtkNew<vtkSightlineSphericalFieldSource> source;
+  source->SetFieldToPREMDensity();
+  source->SetRadiusRange(0.0, 6371.0);
+  source->SetRadialResolution(40);
+  source->SetPolarResolution(6);
+  source->SetAzimuthalResolution(8);
+  source->SetPerturbationAmplitude(0.1);
+  source->Update();
+  vtkRectilinearGrid* grid = source->GetOutput();
+  vtkDataArray* r = grid->GetXCoordinates();
+  for (const auto& layer : sightline::premLayers())
+  {
+    bool found = false;
+    for (vtkIdType i = 0; i < r->GetNumberOfTuples(); ++i)
+      found = found || std::abs(r->GetComponent(i, 0) - layer.outerRadiusKm) < 1e-9;
+    EXPECT_TRUE(found) << layer.name << " boundary at " << layer.outerRadiusKm << " km";
+  }
+  vtkDataArray* density = grid->GetCellData()->GetArray("density");
+  ASSERT_NE(density, nullptr);
+  const int* dims = grid->GetDimensions();
+  const int nr = dims[0] - 1, nt = dims[1] - 1;
+  for (int k : { 0, 3 })
+    for (int j : { 0, 2 })
+      for (int i = 0; i < nr; ++i)
+      {
+        const double rm = 0.5 * (r->GetComponent(i, 0) + r->GetComponent(i + 1, 0));
+        const double theta = (j + 0.5) * kPi / nt, phi = (k + 0.5) * 2.0 * kPi / 8;
+        double expected = sightline::premDensity(rm);
+        if (rm > 3480.0 && rm < 6346.6)
+          expected *= 1.0 + 0.1 * std::sin(theta) * std::sin(theta) * std::cos(2.0 * phi);
+        EXPECT_NEAR(density->GetComponent(i + nr * (j + nt * k), 0), expected, 1e-12 * expected);
+      }
+}
+
+TEST(SphericalVolumeMapper, BadInputIsReportedByName)
+{
+  auto makeGrid = [](std::vector<double> r, std::vector<double> theta, std::vector<double> phi, bool withScalars)
+  {
+    auto grid = vtkSmartPointer<vtkRectilinearGrid>::New();
+    grid->SetDimensions(int(r.size()), int(theta.size()), int(phi.size()));
+    for (auto [values, setter] : { std::make_pair(&r, 0), std::make_pair(&theta, 1), std::make_pair(&phi, 2) })
+    {
+      vtkNew<vtkDoubleArray> array;
+      for (double v : *values)
+        array->InsertNextValue(v);
+      if (setter == 0)
+        grid->SetXCoordinates(array);
+      else if (setter == 1)
+        grid->SetYCoordinates(array);
+      else
+        grid->SetZCoordinates(array);
+    }
+    if (withScalars)
+    {
+      vtkNew<vtkDoubleArray> values;
+      values->SetName("values");
+      values->SetNumberOfTuples(grid->GetNumberOfCells());
+      values->Fill(1.0);
+      grid->GetCellData()->SetScalars(values);
+    }
+    return grid;
+  };
+  struct Case
+  {
+    vtkSmartPointer<vtkRectilinearGrid> grid;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+    { makeGrid({ 0.0, 0.6, 0.5, 1.0 }, { 0.0, kPi }, { 0.0, kPi }, true), "increasing" },
+    { makeGrid({ -0.5, 1.0 }, { 0.0, kPi }, { 0.0, kPi }, true), "below 0" },
+    { makeGrid({ 0.0, 1.0 }, { 0.0, 4.0 }, { 0.0, kPi }, true), "polar angle" },
+    { makeGrid({ 0.0, 1.0 }, { 0.0, kPi }, { 0.0, 7.0 }, true), "2 pi" },
+    { makeGrid({ 0.0, 1.0 }, { 0.0, kPi }, { 0.0, kPi }, false), "no scalars" },
+  };
+  for (const Case& c : cases)
+  {
+    VolumeScene scene;
+    vtkNew<MessageCollector> messages;
+    messages->Observe(scene.mapper);
+    scene.mapper->SetInputDataObject(c.grid);
+    sightline::Framebuffer frame;
+    EXPECT_FALSE(scene.mapper->RayTrace(scene.volume, MakeCamera(true), nullptr, 16, 16, frame));
+    ASSERT_FALSE(messages->Errors.empty()) << c.message;
+    EXPECT_TRUE(messages->Contains(c.message)) << messages->Errors.front();
+  }
+  // Blend modes other than composite, and a cell array of the wrong size.
+  {
+    VolumeScene scene;
+    vtkNew<MessageCollector> messages;
+    messages->Observe(scene.mapper);
+    scene.mapper->SetBlendModeToMaximumIntensity();
+    sightline::Framebuffer frame;
+    EXPECT_FALSE(scene.mapper->RayTrace(scene.volume, MakeCamera(true), nullptr, 16, 16, frame));
+    EXPECT_TRUE(messages->Contains("not supported"));
+  }
+  {
+    VolumeScene scene;
+    vtkNew<MessageCollector> messages;
+    messages->Observe(scene.mapper);
+    auto grid = makeGrid({ 0.0, 0.5, 1.0 }, { 0.0, kPi }, { 0.0, kPi }, false);
+    vtkNew<vtkDoubleArray> values;
+    values->SetNumberOfTuples(5);
+    values->Fill(1.0);
+    grid->GetCellData()->SetScalars(values);
+    scene.mapper->SetInputDataObject(grid);
+    sightline::Framebuffer frame;
+    EXPECT_FALSE(scene.mapper->RayTrace(scene.volume, MakeCamera(true), nullptr, 16, 16, frame));
+    EXPECT_TRUE(messages->Contains("tuples"));
+  }
+  // Bad source settings.
+  {
+    vtkNew<vtkSightlineSphericalFieldSource> source;
+    vtkNew<MessageCollector> messages;
+    messages->Observe(source);
+    source->SetPolarRange(0.0, 5.0);
+    source->Update();
+    EXPECT_TRUE(messages->Contains("polar angle"));
+  }
+}

@@ -34,3 +34,8 @@ xvfb-run -a -s "-screen 0 1920x1080x24" \
 #    (output/tubes_opaque_window.png, output/tubes_translucent_window.png, ..._gl_free.png).
 xvfb-run -a -s "-screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tubes.py --output "$root/output" --size 1600 1000
+# 5. A layered Earth (PREM density with a degree-2 mantle perturbation) ray-cast natively on its
+#    spherical grid, a quarter cut away, around an opaque inner core and under OpenGL graticule
+#    lines (output/earth_window.png, output/earth_gl_free.png).
+xvfb-run -a -s "-screen 0 1920x1080x24" \
+  /usr/bin/python3 Examples/Python/render_earth.py --output "$root/output" --size 1200 1000

@@ -224,6 +224,7 @@ TEST(SphericalVolumeMapper, ImageRendererMatchesWindow)
   scene.property->ShadeOn();
   vtkNew<vtkSightlineSphereMapper> sphereMapper;
   sphereMapper->SetInputDataObject(MakeSpheres({ { 0.2, -0.1, 0.3 } }, { 0.3 }));
+  sphereMapper->SetRadiusArrayName("radius");
   vtkNew<vtkActor> sphereActor;
   sphereActor->SetMapper(sphereMapper);
   auto camera = MakeCamera(false, 5.0);
@@ -414,4 +415,45 @@ TEST(SphericalVolumeMapper, BadInputIsReportedByName)
     source->Update();
     EXPECT_TRUE(messages->Contains("polar angle"));
   }
+}
+
+// Regression image: a PREM Earth with a quarter cut away around an opaque inner core, shaded,
+// in a window. Look at Testing/Data/Baseline/SphericalVolumeEarth.png when it changes.
+TEST(SphericalVolumeMapper, EarthMatchesBaseline)
+{
+  VolumeScene scene;
+  scene.source->SetFieldToPREMDensity();
+  scene.source->SetRadiusRange(1221.5 / 6371.0, 1.0);
+  scene.source->SetRadialResolution(40);
+  scene.source->SetPolarResolution(24);
+  scene.source->SetAzimuthalResolution(36);
+  scene.source->SetAzimuthRange(0.0, 1.5 * kPi);
+  scene.color->RemoveAllPoints();
+  scene.color->AddRGBPoint(2.6, 0.55, 0.45, 0.35);
+  scene.color->AddRGBPoint(3.3, 0.95, 0.85, 0.45);
+  scene.color->AddRGBPoint(5.6, 0.60, 0.10, 0.15);
+  scene.color->AddRGBPoint(9.9, 0.25, 0.45, 0.85);
+  scene.opacity->RemoveAllPoints();
+  scene.opacity->AddPoint(1.0, 0.0);
+  scene.opacity->AddPoint(3.3, 0.35);
+  scene.opacity->AddPoint(5.6, 0.55);
+  scene.opacity->AddPoint(9.9, 0.06);
+  scene.property->SetScalarOpacityUnitDistance(0.06);
+  scene.property->ShadeOn();
+  vtkNew<vtkSightlineSphereMapper> core;
+  core->SetInputDataObject(MakeSpheres({ { 0.0, 0.0, 0.0 } }, { 1221.5 / 6371.0 }));
+  core->SetRadiusArrayName("radius");
+  vtkNew<vtkActor> coreActor;
+  coreActor->SetMapper(core);
+  Window window(240, 200);
+  window.renderer->AddActor(coreActor);
+  window.renderer->AddVolume(scene.volume);
+  vtkCamera* camera = window.renderer->GetActiveCamera();
+  camera->SetPosition(2.4, -2.9, 1.5);
+  camera->SetViewUp(0, 0, 1);
+  window.renderer->ResetCamera();
+  camera->Dolly(1.5);
+  window.renderer->ResetCameraClippingRange();
+  window.window->Render();
+  EXPECT_TRUE(MatchesBaseline(CaptureRGB(window.window), "SphericalVolumeEarth", 0.5));
 }

@@ -44,6 +44,26 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
     throw std::invalid_argument("sightline::renderSphericalVolume: the depth limit has " +
       std::to_string(options.depthLimit->size()) + " values for " + std::to_string(framebuffer.pixelCount()) + " pixels");
 
+  // Empty space: rays are clipped to the sphere around the outermost shell with a visible cell,
+  // and nothing is traced when no cell is visible.
+  double visibleRadius = -1.0;
+  for (int i = grid.radialCells() - 1; i >= 0 && visibleRadius < 0.0; --i)
+    for (int k = 0; k < grid.azimuthalCells() && visibleRadius < 0.0; ++k)
+      for (int j = 0; j < grid.polarCells(); ++j)
+        if (cells[grid.cellIndex(i, j, k)].extinction > 0.0)
+        {
+          visibleRadius = grid.radius[i + 1];
+          break;
+        }
+  SphericalVolumeStatistics stats;
+  if (visibleRadius < 0.0)
+  {
+    if (options.progress)
+      options.progress(1.0);
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+  }
+
   // Bands of rows one after another, so that progress is reported and a cancel takes effect.
   const int bands = options.progress ? std::min(camera.height(), 16) : 1;
   tbb::combinable<std::size_t> visited([] { return std::size_t(0); });
@@ -65,7 +85,10 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
           const std::size_t i = framebuffer.index(x, y);
           if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
             tmax = camera.primaryRayParameterAt(x + 0.5, y + 0.5, (*options.depthLimit)[i]);
-          traversal.traverse(o, d, ray.tnear, tmax, segments);
+          double enter, leave;
+          if (!sphereChord(o, d, visibleRadius, ray.tnear, tmax, enter, leave))
+            continue;
+          traversal.traverse(o, d, enter, leave, segments);
           double first = -1.0;
           const vec4 rgba = compositeCells(
             [&](const CellSegment& c) -> const TransferSample& { return cells[grid.cellIndex(c.r, c.theta, c.phi)]; },
@@ -82,7 +105,6 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
   if (options.progress && !options.progress(double(band + 1) / bands))
     break;
   }
-  SphericalVolumeStatistics stats;
   stats.cellsVisited = visited.combine([](std::size_t a, std::size_t b) { return a + b; });
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;

@@ -10,6 +10,8 @@
 #include "sightline/SphericalGrid.h"
 #include "sightline/SphericalVolume.h"
 
+#include "SphericalRayClasses.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -218,71 +220,10 @@ void checkRay(const SphericalTraversal& traversal, const dvec3& p, const dvec3& 
 void checkAllRayClasses(const SphericalGrid& grid, const char* name)
 {
   const SphericalTraversal traversal(grid);
-  std::mt19937 rng(61);
-  std::normal_distribution<double> n;
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  auto direction = [&] { return glm::normalize(dvec3(n(rng), n(rng), n(rng))); };
   RayCheck stats;
-  const double far = 4.0;
-  for (int i = 0; i < 300; ++i) // random rays from outside
-  {
-    const dvec3 d = direction();
-    const dvec3 target = 1.5 * dvec3(u(rng), u(rng), u(rng));
-    checkRay(traversal, target - far * d, d, 0.0, 2.0 * far, stats, "random");
-  }
-  for (int i = 0; i < 100; ++i) // random rays that end, or start, anywhere (before or after
-  {                              // their closest approach to the origin)
-    const dvec3 d = direction();
-    const dvec3 target = 1.5 * dvec3(u(rng), u(rng), u(rng));
-    const double a = far * (1.0 + u(rng)), b = far * (1.0 + u(rng));
-    checkRay(traversal, target - far * d, d, std::min(a, b), std::max(a, b), stats, "ending anywhere");
-  }
-  for (int i = 0; i < 60; ++i) // through the origin
-  {
-    const dvec3 d = direction();
-    checkRay(traversal, -far * d, d, 0.0, 2.0 * far, stats, "through the origin");
-  }
-  for (double sign : { 1.0, -1.0 }) // along the polar axis, and parallel to it
-  {
-    checkRay(traversal, dvec3(0, 0, -sign * far), dvec3(0, 0, sign), 0.0, 2.0 * far, stats, "polar axis");
-    checkRay(traversal, dvec3(0.3, -0.2, -sign * far), dvec3(0, 0, sign), 0.0, 2.0 * far, stats, "vertical");
-  }
-  for (double r : grid.radius) // tangent to every shell
-  {
-    const dvec3 d = direction();
-    const dvec3 normal = glm::normalize(glm::cross(d, direction()));
-    checkRay(traversal, r * normal - far * d, d, 0.0, 2.0 * far, stats, "tangent to a shell");
-  }
-  for (double theta : grid.polar) // grazing every cone along a tangent line
-  {
-    const dvec3 g(std::sin(theta), 0.0, std::cos(theta));
-    checkRay(traversal, 1.1 * g - dvec3(0, far, 0), dvec3(0, 1, 0), 0.0, 2.0 * far, stats, "grazing a cone");
-    checkRay(traversal, dvec3(0.0), g, -far, far, stats, "along a cone's generator", true);
-  }
-  for (int i = 0; i < 40; ++i) // starting inside the domain
-  {
-    const dvec3 d = direction();
-    const double r = 0.5 * (grid.radius[1] + grid.radius[2]);
-    const double theta = 0.5 * (grid.polar[1] + grid.polar[2]);
-    const double phi = 0.5 * (grid.azimuth[1] + grid.azimuth[2]);
-    const dvec3 o = r * dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-    checkRay(traversal, o, d, 0.0, far, stats, "starting inside");
-  }
-  for (int i = 0; i < 60; ++i) // through cell corners
-  {
-    const double r = grid.radius[1 + rng() % (grid.radius.size() - 1)];
-    const double theta = grid.polar[rng() % grid.polar.size()];
-    const double phi = grid.azimuth[rng() % grid.azimuth.size()];
-    const dvec3 corner = r * dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-    const dvec3 d = direction();
-    checkRay(traversal, corner - far * d, d, 0.0, 2.0 * far, stats, "through a corner");
-  }
-  for (int i = 0; i < 30; ++i) // through the z axis off the origin
-  {
-    const dvec3 axisPoint(0.0, 0.0, u(rng));
-    dvec3 d = direction();
-    checkRay(traversal, axisPoint - far * d, d, 0.0, 2.0 * far, stats, "through the z axis");
-  }
+  sightline_test::forEachRayClass(grid,
+    [&](const char* what, const dvec3& p, const dvec3& d, double tmin, double tmax, bool onBoundary)
+    { checkRay(traversal, p, d, tmin, tmax, stats, what, onBoundary); });
   std::printf("%s: %d rays (%d crossing the domain, %d within the tangency floor), worst relative "
               "errors of the others: chord %.2e, step function %.2e, r^2 %.2e\n",
     name, stats.rays, stats.hitting, stats.nearTangent, stats.worstLength, stats.worstStep,

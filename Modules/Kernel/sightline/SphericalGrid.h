@@ -91,6 +91,24 @@ private:
 double projectCellConstant(const SphericalGrid& grid, const std::vector<double>& values,
   const std::vector<CellSegment>& segments, double directionLength);
 
+/// Line integrals of a field given at the radial breakpoints and interpolated in r (or in r^2)
+/// inside each cell, constant in theta and phi: `nodeValues[i + (Nr + 1) (j + Ntheta k)]` is the
+/// value at radius breakpoint i of the column (theta cell j, phi cell k). The thesis' "data
+/// linear with respect to the radius (or the square of the radius)". Exact along each segment:
+/// with u the ray parameter from the closest approach to the origin, r = sqrt(p^2 + a u^2), and
+/// the integral of r has a closed form (asinh), that of r^2 is a cubic. `origin` and
+/// `direction` are the ray the segments came from. Throws std::invalid_argument for a wrong
+/// number of node values.
+double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double>& nodeValues,
+  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction);
+double projectLinearInRadiusSquared(const SphericalGrid& grid, const std::vector<double>& nodeValues,
+  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction);
+
+/// Node values for the two samplers above from a field f(r, theta, phi): each column's values at
+/// the radial breakpoints, at its theta and phi midpoints.
+std::vector<double> sampleRadialNodes(
+  const SphericalGrid& grid, const std::function<double(double, double, double)>& field);
+
 /// Emission-absorption along the segments, front to back, with cell-constant colour and
 /// extinction from a transfer function of the cell's value: each cell multiplies the
 /// transmittance by exp(-extinction x length) and adds colour x (1 - that factor). Cells whose

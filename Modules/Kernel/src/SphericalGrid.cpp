@@ -102,7 +102,12 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   const double outerSquared = RadiusSquared.back();
   if (closestSquared >= outerSquared)
     return;
-  const double halfChord = std::sqrt((outerSquared - closestSquared) / dd);
+  // Half chords as (R - |c|)(R + |c|), not R^2 - |c|^2: accurate to the radius's precision for
+  // rays that (nearly) touch a sphere, the same expression sphereChord uses.
+  const double closestDistance = std::sqrt(closestSquared);
+  auto halfChordOf = [&](double radius)
+  { return std::sqrt(std::max(0.0, (radius - closestDistance) * (radius + closestDistance)) / dd); };
+  const double halfChord = halfChordOf(Grid.radius.back());
   tmin = std::max(tmin, tClosest - halfChord);
   tmax = std::min(tmax, tClosest + halfChord);
   if (!(tmin < tmax))
@@ -121,9 +126,9 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
     // nearer to it (a ray ending before its closest approach only falls).
     const int lowest = tClosest <= tmin ? first : tClosest >= tmax ? last : radialIndex(closestSquared);
     for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
-      radial.push_back({ tClosest - std::sqrt(std::max(0.0, RadiusSquared[std::size_t(i)] - closestSquared) / dd), i - 1 });
+      radial.push_back({ tClosest - halfChordOf(Grid.radius[std::size_t(i)]), i - 1 });
     for (int i = lowest; i < last; ++i) // rising: leave shell i through r_{i+1}
-      radial.push_back({ tClosest + std::sqrt(std::max(0.0, RadiusSquared[std::size_t(i + 1)] - closestSquared) / dd), i + 1 });
+      radial.push_back({ tClosest + halfChordOf(Grid.radius[std::size_t(i + 1)]), i + 1 });
     clampAscending(radial, tmin, tmax);
   }
 
@@ -375,4 +380,94 @@ vec4 emissionAbsorption(const SphericalGrid& grid, const std::vector<double>& va
     },
     segments, directionLength, minimumTransmittance);
 }
+namespace
+{
+// The ray's closest approach to the origin: t there, |direction|^2 and the squared distance.
+struct ClosestApproach
+{
+  double t, a, p2;
+  ClosestApproach(const dvec3& origin, const dvec3& direction)
+  {
+    a = glm::dot(direction, direction);
+    t = -glm::dot(origin, direction) / a;
+    const dvec3 foot = origin + t * direction;
+    p2 = glm::dot(foot, foot);
+  }
+};
+
+void checkNodeCount(const SphericalGrid& grid, const std::vector<double>& nodeValues, const char* who)
+{
+  const std::size_t expected =
+    grid.radius.size() * std::size_t(grid.polarCells()) * std::size_t(grid.azimuthalCells());
+  if (nodeValues.size() != expected)
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(nodeValues.size()) +
+      " node values for " + std::to_string(expected) + " (radius breakpoints x theta cells x phi cells)");
+}
+
+// Integral of sqrt(p2 + a u^2) du from 0 to u (an odd function of u).
+double radiusAntiderivative(double u, double a, double p2)
+{
+  const double r = std::sqrt(p2 + a * u * u);
+  const double sa = std::sqrt(a);
+  if (!(p2 > 0.0))
+    return 0.5 * sa * u * std::abs(u);
+  const double p = std::sqrt(p2);
+  return 0.5 * (u * r + p2 / sa * std::asinh(sa * u / p));
+}
+} // namespace
+
+double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double>& nodeValues,
+  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
+{
+  checkNodeCount(grid, nodeValues, "projectLinearInRadius");
+  const ClosestApproach c(origin, direction);
+  const std::size_t nodes = grid.radius.size();
+  double sum = 0.0;
+  for (const CellSegment& s : segments)
+  {
+    const std::size_t column = nodes * (std::size_t(s.theta) + std::size_t(grid.polarCells()) * std::size_t(s.phi));
+    const double f0 = nodeValues[column + s.r], f1 = nodeValues[column + s.r + 1];
+    const double r0 = grid.radius[s.r], r1 = grid.radius[s.r + 1];
+    const double slope = (f1 - f0) / (r1 - r0);
+    const double u0 = s.t0 - c.t, u1 = s.t1 - c.t;
+    const double integralOfR = radiusAntiderivative(u1, c.a, c.p2) - radiusAntiderivative(u0, c.a, c.p2);
+    sum += (f0 - slope * r0) * (u1 - u0) + slope * integralOfR;
+  }
+  return sum * std::sqrt(c.a);
+}
+
+double projectLinearInRadiusSquared(const SphericalGrid& grid, const std::vector<double>& nodeValues,
+  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
+{
+  checkNodeCount(grid, nodeValues, "projectLinearInRadiusSquared");
+  const ClosestApproach c(origin, direction);
+  const std::size_t nodes = grid.radius.size();
+  double sum = 0.0;
+  for (const CellSegment& s : segments)
+  {
+    const std::size_t column = nodes * (std::size_t(s.theta) + std::size_t(grid.polarCells()) * std::size_t(s.phi));
+    const double f0 = nodeValues[column + s.r], f1 = nodeValues[column + s.r + 1];
+    const double q0 = grid.radius[s.r] * grid.radius[s.r], q1 = grid.radius[s.r + 1] * grid.radius[s.r + 1];
+    const double slope = (f1 - f0) / (q1 - q0);
+    const double u0 = s.t0 - c.t, u1 = s.t1 - c.t;
+    // r^2 = p^2 + a u^2 integrates to p^2 (u1 - u0) + a (u1^3 - u0^3) / 3.
+    const double integralOfR2 = c.p2 * (u1 - u0) + c.a * (u1 * u1 * u1 - u0 * u0 * u0) / 3.0;
+    sum += (f0 - slope * q0) * (u1 - u0) + slope * integralOfR2;
+  }
+  return sum * std::sqrt(c.a);
+}
+
+std::vector<double> sampleRadialNodes(
+  const SphericalGrid& grid, const std::function<double(double, double, double)>& field)
+{
+  grid.validate();
+  std::vector<double> values;
+  values.reserve(grid.radius.size() * std::size_t(grid.polarCells()) * std::size_t(grid.azimuthalCells()));
+  for (int k = 0; k < grid.azimuthalCells(); ++k)
+    for (int j = 0; j < grid.polarCells(); ++j)
+      for (double r : grid.radius)
+        values.push_back(field(r, 0.5 * (grid.polar[j] + grid.polar[j + 1]), 0.5 * (grid.azimuth[k] + grid.azimuth[k + 1])));
+  return values;
+}
+
 } // namespace sightline

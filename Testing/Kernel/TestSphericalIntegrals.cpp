@@ -1,0 +1,210 @@
+// The samplers against the analytic integrals of the thesis' test fields (Chapter 6), for
+// every class of ray: the step function chi_0.5 projected cell by cell on grids whose radial
+// breakpoints include its steps, r^2 through the linear-in-r^2 sampler and r through the
+// linear-in-r sampler (both exact for those fields), against sphere chords, the thesis' closed
+// form 2/3 sqrt(1 - b^2) (1 + 2 b^2), and an independent graded Gauss-Legendre quadrature.
+// All to 1e-9 relative. Then the thesis' benchmark grids (the step mid-cell) converge.
+#include "sightline/SphericalFields.h"
+#include "sightline/SphericalGrid.h"
+
+#include "SphericalRayClasses.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <stdexcept>
+
+using namespace sightline;
+
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+
+// Non-uniform in every coordinate, outer radius 1, with 1/2 (chi_0.5's step) a breakpoint.
+SphericalGrid unitBall()
+{
+  return { { 0.0, 0.2, 0.37, 0.5, 0.71, 0.9, 1.0 }, { 0.0, 0.35, 1.1, kPi / 2, 2.4, kPi },
+    { 0.0, 0.8, 1.5, 2.9, 4.0, 5.1, 2.0 * kPi } };
+}
+
+// 10-point Gauss-Legendre on [a, b].
+template <class F>
+double gaussLegendre(const F& f, double a, double b)
+{
+  static const double x[5] = { 0.1488743389816312, 0.4333953941292472, 0.6794095682990244,
+    0.8650633666889845, 0.9739065285171717 };
+  static const double w[5] = { 0.2955242247147529, 0.2692667193099963, 0.2190863625159820,
+    0.1494513491505806, 0.0666713443086881 };
+  const double m = 0.5 * (a + b), h = 0.5 * (b - a);
+  double sum = 0.0;
+  for (int i = 0; i < 5; ++i)
+    sum += w[i] * (f(m - h * x[i]) + f(m + h * x[i]));
+  return sum * h;
+}
+
+// Integral of |o + t d| over the part of [t0, t1] inside the unit ball, by quadrature graded
+// geometrically towards the closest approach (where r has its kink or strong curvature).
+double referenceIntegralOfRadius(const dvec3& o, const dvec3& d, double t0, double t1)
+{
+  double enter, leave;
+  if (!sphereChord(o, d, 1.0, t0, t1, enter, leave))
+    return 0.0;
+  const double a = glm::dot(d, d), tc = -glm::dot(o, d) / a;
+  const auto r = [&](double t) { return glm::length(o + t * d); };
+  double sum = 0.0;
+  // Pieces [enter, tc] and [tc, leave] (clipped), each split at tc +- L 2^-m.
+  for (int side : { -1, 1 })
+  {
+    const double from = side < 0 ? enter : std::max(enter, tc);
+    const double to = side < 0 ? std::min(leave, tc) : leave;
+    if (!(to > from))
+      continue;
+    const double near = side < 0 ? to : from, farEnd = side < 0 ? from : to;
+    double length = std::abs(farEnd - near);
+    double outer = farEnd;
+    for (int m = 0; m < 60 && length > 0.0; ++m)
+    {
+      const double inner = near + side * 0.5 * length;
+      sum += side < 0 ? gaussLegendre(r, outer, inner) : gaussLegendre(r, inner, outer);
+      outer = inner;
+      length *= 0.5;
+    }
+    sum += gaussLegendre(r, std::min(near, outer), std::max(near, outer));
+  }
+  return sum * std::sqrt(a);
+}
+
+struct Worst
+{
+  double value = 0.0;
+  int rays = 0, hitting = 0;
+  void add(double ours, double reference, double scale)
+  {
+    ++rays;
+    if (reference != 0.0)
+      ++hitting;
+    value = std::max(value, std::abs(ours - reference) / std::max(std::abs(reference), scale));
+  }
+};
+} // namespace
+
+TEST(SphericalFields, ClosedFormsAgainstQuadrature)
+{
+  const RadiusSquaredField r2{ 1.0 };
+  const RadialStepField chi = RadialStepField::chiHalf();
+  // The thesis' x-aligned rays: 2/3 sqrt(1 - b^2)(1 + 2 b^2) for r^2; chords for chi.
+  for (double b : { 0.0, 0.1, 0.3, 0.49, 0.5, 0.51, 0.8, 0.999, 1.0, 1.2 })
+  {
+    const double y = b * 0.6, z = b * 0.8;
+    const dvec3 o(-3.0, y, z), d(1.0, 0.0, 0.0);
+    const double closed = 2.0 / 3.0 * std::sqrt(std::max(0.0, 1.0 - b * b)) * (1.0 + 2.0 * b * b);
+    EXPECT_NEAR(r2.rayIntegral(o, d, 0.0, 6.0), closed, 1e-14) << "b = " << b;
+    const double chord = 2.0 * std::sqrt(std::max(0.0, 1.0 - b * b));
+    const double inner = 2.0 * std::sqrt(std::max(0.0, 0.25 - b * b));
+    EXPECT_NEAR(chi.rayIntegral(o, d, 0.0, 6.0), chord + inner, 1e-14) << "b = " << b;
+  }
+  // Random rays, scaled directions, ends anywhere: against quadrature of the field itself.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 200; ++i)
+  {
+    const dvec3 o(2.0 * u(rng), 2.0 * u(rng), 2.0 * u(rng));
+    const dvec3 d = 1.7 * dvec3(u(rng), u(rng), u(rng));
+    const double t0 = u(rng), t1 = t0 + 1.5 + u(rng);
+    double enter, leave;
+    double reference = 0.0;
+    if (sphereChord(o, d, 1.0, t0, t1, enter, leave))
+      reference = gaussLegendre([&](double t) { const dvec3 x = o + t * d; return glm::dot(x, x); }, enter, leave) *
+        glm::length(d);
+    EXPECT_NEAR(r2.rayIntegral(o, d, t0, t1), reference, 1e-13);
+  }
+  EXPECT_THROW((RadialStepField{ { 0.5, 0.4 }, { 1.0, 2.0 } }.validate()), std::invalid_argument);
+  EXPECT_THROW((RadialStepField{ { 0.5 }, { 1.0, 2.0 } }.validate()), std::invalid_argument);
+}
+
+// Every ray class: chi_0.5 by cell-constant projection, r^2 by the linear-in-r^2 sampler, r by
+// the linear-in-r sampler, against the exact integrals.
+TEST(SphericalSamplers, ExactForTheirFieldsOnEveryRayClass)
+{
+  const SphericalGrid grid = unitBall();
+  const SphericalTraversal traversal(grid);
+  const RadialStepField chi = RadialStepField::chiHalf();
+  const RadiusSquaredField r2{ 1.0 };
+  const std::vector<double> chiCells =
+    sampleCellMidpoints(grid, [&](double r, double, double) { return chi(r); });
+  const std::vector<double> r2Nodes = sampleRadialNodes(grid, [](double r, double, double) { return r * r; });
+  const std::vector<double> rNodes = sampleRadialNodes(grid, [](double r, double, double) { return r; });
+  Worst step, square, linear;
+  std::vector<CellSegment> segments;
+  sightline_test::forEachRayClass(grid,
+    [&](const char* what, const dvec3& o, const dvec3& d, double t0, double t1, bool)
+    {
+      traversal.traverse(o, d, t0, t1, segments);
+      const double dl = glm::length(d);
+      const double ourStep = projectCellConstant(grid, chiCells, segments, dl);
+      const double ourSquare = projectLinearInRadiusSquared(grid, r2Nodes, segments, o, d);
+      const double ourLinear = projectLinearInRadius(grid, rNodes, segments, o, d);
+      const double exactStep = chi.rayIntegral(o, d, t0, t1);
+      const double exactSquare = r2.rayIntegral(o, d, t0, t1);
+      const double exactLinear = referenceIntegralOfRadius(o, d, t0, t1);
+      // Relative to the integral, or to the field's size times the ray's span in the ball
+      // (1e-300 floors rays that miss).
+      step.add(ourStep, exactStep, 1e-300);
+      square.add(ourSquare, exactSquare, 1e-300);
+      linear.add(ourLinear, exactLinear, 1e-300);
+      EXPECT_LE(std::abs(ourStep - exactStep), 1e-9 * std::abs(exactStep) + 1e-300) << what << ": chi " << ourStep << " vs " << exactStep;
+      EXPECT_LE(std::abs(ourSquare - exactSquare), 1e-9 * std::abs(exactSquare) + 1e-300) << what << ": r^2 " << ourSquare << " vs " << exactSquare;
+      EXPECT_LE(std::abs(ourLinear - exactLinear), 1e-9 * std::abs(exactLinear) + 1e-300) << what << ": r " << ourLinear << " vs " << exactLinear;
+    });
+  std::printf("%d rays (%d through the ball): worst relative error chi_0.5 %.2e, r^2 %.2e, r %.2e\n",
+    step.rays, step.hitting, step.value, square.value, linear.value);
+  EXPECT_GT(step.hitting, step.rays / 4);
+}
+
+// The thesis' benchmark grids: N uniform breakpoints per axis, so chi_0.5's step lies inside a
+// cell. The projection error then falls as the grid is refined (first order in the cell size).
+TEST(SphericalSamplers, ThesisGridsConverge)
+{
+  const RadialStepField chi = RadialStepField::chiHalf();
+  double previous = 1e300;
+  for (int n : { 8, 16, 32, 64 })
+  {
+    SphericalGrid grid;
+    for (int i = 0; i < n; ++i)
+    {
+      grid.radius.push_back(double(i) / (n - 1));
+      grid.polar.push_back(kPi * i / (n - 1));
+      grid.azimuth.push_back(2.0 * kPi * i / (n - 1));
+    }
+    const SphericalTraversal traversal(grid);
+    const std::vector<double> cells = sampleCellMidpoints(grid, [&](double r, double, double) { return chi(r); });
+    std::vector<CellSegment> segments;
+    double sumSquares = 0.0;
+    int rays = 0;
+    for (int iy = 0; iy < 64; ++iy)
+      for (int iz = 0; iz < 64; ++iz)
+      {
+        const dvec3 o(-2.0, (iy + 0.5) / 32.0 - 1.0, (iz + 0.5) / 32.0 - 1.0), d(1.0, 0.0, 0.0);
+        traversal.traverse(o, d, 0.0, 4.0, segments);
+        const double error = projectCellConstant(grid, cells, segments, 1.0) - chi.rayIntegral(o, d, 0.0, 4.0);
+        sumSquares += error * error;
+        ++rays;
+      }
+    const double rms = std::sqrt(sumSquares / rays);
+    std::printf("N = %d: RMS error of chi_0.5 projections %.3e\n", n, rms);
+    EXPECT_LT(rms, 0.75 * previous);
+    previous = rms;
+  }
+}
+
+TEST(SphericalSamplers, BadNodeCounts)
+{
+  const SphericalGrid grid = unitBall();
+  std::vector<CellSegment> segments;
+  EXPECT_THROW(projectLinearInRadius(grid, std::vector<double>(3), segments, dvec3(0.0), dvec3(1.0, 0.0, 0.0)),
+    std::invalid_argument);
+  EXPECT_THROW(projectLinearInRadiusSquared(grid, std::vector<double>(3), segments, dvec3(0.0), dvec3(1.0, 0.0, 0.0)),
+    std::invalid_argument);
+}

@@ -146,6 +146,10 @@ struct MethodResult
   /// A scene-specific update and the frame after it (sh-glyph-window: a ScaleFactor change,
   /// i.e. rebuilding the glyphs from cached boxes, the BVH and the frame).
   double updateSeconds = kNotMeasured;
+  /// Scenes that integrate along rays (spherical-*): the root mean square and the largest
+  /// absolute difference of the methods' ray integrals from the exact ones.
+  double integralRmsError = kNotMeasured;
+  double integralMaxError = kNotMeasured;
   ImageError error;                 ///< filled in by the harness
   double hitPercent = kNotMeasured; ///< filled in by the harness
   std::string notes;

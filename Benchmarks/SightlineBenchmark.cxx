@@ -175,7 +175,8 @@ void writeCsv(const std::string& path, const std::string& scene,
          "first_image_seconds,frame_seconds_median,frame_seconds_min,runs,"
          "frame_time_vs_sightline,bytes_per_primitive,rgb_mean_abs_diff,coverage_diff_percent,"
          "depth_max_abs_diff,depth_p99_abs_diff,hit_percent,interactive_frame_seconds_median,"
-         "interactive_frame_seconds_min,memory_bytes,rss_increase_bytes,update_seconds,notes,"
+         "interactive_frame_seconds_min,memory_bytes,rss_increase_bytes,update_seconds,"
+         "integral_rms_error,integral_max_error,notes,"
          "cpu_model,logical_cores,tbb_threads,memory_gib,load_average,gl_renderer,gl_version,vtk_version,embree_version,"
          "date\n";
   for (const MethodResult& row : rows)
@@ -190,7 +191,8 @@ void writeCsv(const std::string& path, const std::string& scene,
         << field(row.error.depthMaxAbsDiff) << ',' << field(row.error.depthP99AbsDiff) << ','
         << field(row.hitPercent) << ',' << field(row.interactiveFrame.medianSeconds) << ','
         << field(row.interactiveFrame.minSeconds) << ',' << field(row.memoryBytes) << ','
-        << field(row.rssIncreaseBytes) << ',' << field(row.updateSeconds) << ',' << field(row.notes)
+        << field(row.rssIncreaseBytes) << ',' << field(row.updateSeconds) << ','
+        << field(row.integralRmsError) << ',' << field(row.integralMaxError) << ',' << field(row.notes)
         << ',' << field(machine.cpuModel) << ','
         << machine.logicalCores << ',' << machine.tbbThreads << ',' << field(machine.memoryGiB)
         << ',' << field(machine.loadAverage) << ',' << field(machine.glRenderer) << ','

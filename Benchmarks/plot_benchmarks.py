@@ -150,10 +150,75 @@ def plot_times(axis, rows):
     axis.grid(True, axis="y", which="both", alpha=0.3)
 
 
+def has_integral_errors(rows):
+    return any(number(row.get("integral_rms_error")) is not None and row["status"] == "ok"
+               for row in rows)
+
+
+def plot_integral_scenes(row_sets, output):
+    """Spherical scenes (thesis Figures 6.11-6.14): for each scene the RMS error of the ray
+    integrals against the frame time, one point per grid resolution N; then frame time against
+    N (first scene)."""
+    panels = len(row_sets) + 1
+    columns = min(panels, 2)
+    rows_of_panels = (panels + columns - 1) // columns
+    figure, grid = plt.subplots(rows_of_panels, columns, figsize=(6.5 * columns, 5.2 * rows_of_panels),
+                                squeeze=False)
+    axes = [axis for row in grid for axis in row][:panels]
+    methods = list(dict.fromkeys(r["method"] for rows in row_sets for r in rows if r["status"] == "ok"))
+    colors = method_colors(methods)
+    for axis, rows in zip(axes, row_sets):
+        measured = [row for row in rows if row["status"] == "ok"]
+        for method in dict.fromkeys(r["method"] for r in measured):
+            points = [(number(r["frame_seconds_median"]), number(r["integral_rms_error"]), r["primitives"])
+                      for r in measured if r["method"] == method]
+            # Machine-precision errors are drawn at 1e-16 so that the log axis keeps them.
+            points = [(t, max(e, 1e-16), n) for t, e, n in points if t and e is not None]
+            if not points:
+                continue
+            axis.plot([p[0] for p in points], [p[1] for p in points], "o-", color=colors[method],
+                      label=method)
+            for t, e, n in points:
+                axis.annotate(n, (t, e), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        axis.set_xscale("log")
+        axis.set_yscale("log")
+        axis.set_xlabel("frame time [s] (median)")
+        axis.set_ylabel("RMS error of the ray integrals (labels: N)")
+        axis.set_title(f"{rows[0]['scene']}: error against run time (cartesian-resampled and "
+                       "-exact-samples overlap where they agree)", fontsize=8)
+        axis.grid(True, which="both", alpha=0.3)
+        axis.legend(fontsize=7)
+    timing = axes[-1]
+    first_rows = [row for row in row_sets[0] if row["status"] == "ok"]
+    for method in dict.fromkeys(r["method"] for r in first_rows):
+        timed = [(int(r["primitives"]), number(r["frame_seconds_median"])) for r in first_rows
+                 if r["method"] == method]
+        timing.plot([p[0] for p in timed], [p[1] for p in timed], "o-", color=colors[method],
+                    label=method)
+    timing.set_xscale("log", base=2)
+    timing.set_yscale("log")
+    timing.set_xlabel("grid resolution N per axis")
+    timing.set_ylabel("frame time [s] (median)")
+    timing.set_title(f"{row_sets[0][0]['scene']}: run time against resolution", fontsize=9)
+    timing.grid(True, which="both", alpha=0.3)
+    timing.legend(fontsize=7)
+    first = row_sets[0][0]
+    figure.suptitle(f"sightline-benchmark spherical scenes, {first['width']}x{first['height']} rays "
+                    f"parallel to x; {first['cpu_model']}, {first['logical_cores']} cores, "
+                    f"load {first['load_average']}", fontsize=9)
+    figure.tight_layout()
+    figure.savefig(output, dpi=100)
+    plt.close(figure)
+    print(f"plot: {output}")
+
+
 def plot_csv(path, output):
     rows = read_rows(path)
     if not rows:
         raise SystemExit(f"{path}: no rows")
+    if has_integral_errors(rows):
+        plot_integral_scenes([rows], output)
+        return
     measured = [row for row in rows if row["status"] != "skipped"]
     scene = rows[0]["scene"]
     methods = list(dict.fromkeys(row["method"] for row in rows))
@@ -204,11 +269,17 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("csv", nargs="+", help="CSV files written by sightline-benchmark")
-    parser.add_argument("--output", help="output PNG (only with a single CSV); "
+    parser.add_argument("--output", help="output PNG (only with a single CSV, or several "
+                        "spherical-* CSVs drawn side by side); "
                         "default <csv directory>/<scene>.png")
     arguments = parser.parse_args()
     if arguments.output and len(arguments.csv) != 1:
-        parser.error("--output needs exactly one CSV")
+        # Several spherical scenes side by side in one figure.
+        row_sets = [read_rows(path) for path in arguments.csv]
+        if all(rows and has_integral_errors(rows) for rows in row_sets):
+            plot_integral_scenes(row_sets, arguments.output)
+            return 0
+        parser.error("--output needs exactly one CSV (or several spherical-* CSVs)")
     for path in arguments.csv:
         if arguments.output:
             output = arguments.output

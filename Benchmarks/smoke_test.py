@@ -33,6 +33,11 @@ the intersection-cost CSV has positive costs, and the plot script makes its figu
 checks that every method has its row, the four Sightline link layouts and the CSG path at
 opacity 1 draw what Embree's round linear curves draw, the translucent frame differs from it,
 and vtkTubeFilter with more sides is more accurate and uses more memory than with fewer.
+
+--scene spherical runs spherical-step-aligned and spherical-r2 at N = 8 and 16 on 64x64 rays (no
+display needed) and checks that the native projections are exact where they must be (the step on
+a breakpoint; r^2 through the linear-in-r^2 sampler), that cell-constant r^2 beats Cartesian
+resampling at equal N, that Cartesian resampling converges, and that the combined plot is made.
 """
 
 import argparse
@@ -472,6 +477,48 @@ def check_tubes(arguments):
     return 0
 
 
+def check_spherical(arguments):
+    """spherical-step-aligned and spherical-r2 at N = 8 and 16, 64x64 rays."""
+    if os.path.isdir(arguments.output):
+        shutil.rmtree(arguments.output)
+    results = {}
+    for scene in ("spherical-step-aligned", "spherical-r2"):
+        command = [arguments.harness, "--scene", scene, "--count", "8,16", "--width", "64",
+                   "--height", "64", "--runs", "1", "--output", arguments.output, "--no-plot"]
+        print(" ".join(command), flush=True)
+        if subprocess.run(command, timeout=120).returncode != 0:
+            fail("the harness failed")
+        with open(csv_file(arguments, scene), newline="") as stream:
+            rows = list(csv.DictReader(stream))
+        results[scene] = {(row["method"], int(row["primitives"])): row for row in rows}
+
+    def rms(scene, method, n):
+        return value(results[scene][(method, n)], "integral_rms_error")
+
+    for n in (8, 16):
+        # The grid's cells hold the step exactly: the native traversal is exact, Cartesian is not.
+        if not rms("spherical-step-aligned", "sightline-spherical", n) < 1e-12:
+            fail(f"aligned step, N = {n}: the native projection is not exact")
+        if not rms("spherical-step-aligned", "cartesian-resampled", n) > 1e-3:
+            fail(f"aligned step, N = {n}: Cartesian resampling looks exact, the comparison is broken")
+        # r^2: linear in r^2 is exact; cell-constant values beat Cartesian at equal N.
+        if not rms("spherical-r2", "sightline-spherical-linear-r2", n) < 1e-12:
+            fail(f"r^2, N = {n}: the linear-in-r^2 sampler is not exact")
+        if not rms("spherical-r2", "sightline-spherical", n) < rms("spherical-r2", "cartesian-resampled", n):
+            fail(f"r^2, N = {n}: the native projection is less accurate than Cartesian resampling")
+    if not rms("spherical-r2", "cartesian-resampled", 16) < rms("spherical-r2", "cartesian-resampled", 8):
+        fail("r^2: Cartesian resampling does not converge")
+    plot = os.path.join(arguments.output, "spherical.png")
+    if subprocess.run([sys.executable, arguments.plot_script, csv_file(arguments, "spherical-step-aligned"),
+                       csv_file(arguments, "spherical-r2"), "--output", plot], timeout=120).returncode != 0 \
+            or not os.path.isfile(plot):
+        fail("plot_benchmarks.py made no figure")
+    print("OK: native projections exact where the grid holds the field, Cartesian errors "
+          f"{rms('spherical-step-aligned', 'cartesian-resampled', 16):.3g} (step) and "
+          f"{rms('spherical-r2', 'cartesian-resampled', 16):.3g} (r^2) at N = 16")
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -479,7 +526,7 @@ def main():
     parser.add_argument("--plot-script", required=True)
     parser.add_argument("--output", required=True)
     parser.add_argument("--scene", choices=["spheres", "sh-glyphs", "sh-glyph-window",
-                                            "tensor-glyphs", "tubes"],
+                                            "tensor-glyphs", "tubes", "spherical"],
                         default="spheres")
     parser.add_argument("--data-dir", help="sh-glyph-window: where its data is kept")
     arguments = parser.parse_args()
@@ -491,6 +538,8 @@ def main():
         return check_tensor_glyphs(arguments)
     if arguments.scene == "tubes":
         return check_tubes(arguments)
+    if arguments.scene == "spherical":
+        return check_spherical(arguments)
     return check_spheres(arguments)
 
 

@@ -118,7 +118,12 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   // -1 below r_0, n - 1 at or beyond the outer sphere.
   auto radialIndex = [&](double r2)
   { return int(std::upper_bound(RadiusSquared.begin(), RadiusSquared.end(), r2) - RadiusSquared.begin()) - 1; };
-  std::vector<Transition> radial;
+  // Per-thread scratch lists: no heap allocation per ray once they have grown.
+  thread_local std::vector<Transition> radial, polarList, azimuthList;
+  thread_local std::vector<std::pair<double, int>> crossings; // (unwrapped angle, breakpoint)
+  radial.clear();
+  polarList.clear();
+  azimuthList.clear();
   {
     const int first = radialIndex(glm::dot(start, start));
     const int last = radialIndex(glm::dot(end, end));
@@ -156,7 +161,6 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
       return polarCount - 2;
     return lo - 1;
   };
-  std::vector<Transition> polarList;
   {
     const double pd = glm::dot(p, d), pp = glm::dot(p, p);
     const double slope = d.z * pd - p.z * dd;
@@ -243,7 +247,6 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
       return FullCircle ? azimuthCount - 2 : -1;
     return k;
   };
-  std::vector<Transition> azimuthList;
   int azimuthStart = 0;
   {
     const double turn = p.x * d.y - p.y * d.x; // (p x d).z
@@ -282,20 +285,28 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
       }
       // Boundaries strictly between the two azimuths, in sweep order, as unwrapped angles.
       int index = azimuthStart;
-      std::vector<std::pair<double, int>> crossings; // (unwrapped angle, breakpoint)
-      for (int lap = -1; lap <= 1; ++lap)
-        for (int k = 0; k < azimuthCount; ++k)
-        {
-          if (FullCircle && k == azimuthCount - 1)
-            continue; // the same half-plane as k = 0
-          const double angle = Grid.azimuth[std::size_t(k)] + lap * kTwoPi;
-          // A start exactly on phi_k counts as wedge k: rising it stays, falling it leaves.
-          if (rising ? (angle > phiStart && angle <= phiEnd) : (angle <= phiStart && angle >= phiEnd))
-            crossings.push_back({ angle, k });
-        }
-      std::sort(crossings.begin(), crossings.end());
-      if (!rising)
-        std::reverse(crossings.begin(), crossings.end());
+      crossings.clear();
+      // The half-planes' angles over three laps, phi_k + lap 2 pi (the full circle's last
+      // breakpoint is its first), form one increasing sequence: binary search for the first
+      // one past the start, then walk in the sweep's direction to the end.
+      const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
+      auto angleOf = [&](int v) { return Grid.azimuth[std::size_t(v % perLap)] + (v / perLap - 1) * kTwoPi; };
+      int lo = 0, hi = 3 * perLap; // first v with angle > phiStart
+      while (lo < hi)
+      {
+        const int mid = (lo + hi) / 2;
+        if (angleOf(mid) > phiStart)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      // A start exactly on phi_k counts as wedge k: rising it stays, falling it leaves.
+      if (rising)
+        for (int v = lo; v < 3 * perLap && angleOf(v) <= phiEnd; ++v)
+          crossings.push_back({ angleOf(v), v % perLap });
+      else
+        for (int v = lo - 1; v >= 0 && angleOf(v) >= phiEnd; --v)
+          crossings.push_back({ angleOf(v), v % perLap });
       for (const auto& crossing : crossings)
       {
         const int k = crossing.second;

@@ -18,10 +18,16 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace sightline
 {
+namespace traversal
+{
+class AzimuthSweep;
+}
+
 struct SphericalGrid
 {
   std::vector<double> radius; ///< r breakpoints, >= 0
@@ -81,8 +87,8 @@ private:
   std::vector<double> RadiusSquared;       ///< r_i^2, increasing
   std::vector<double> SignedCosineSquared; ///< cos(theta_j) |cos(theta_j)|, decreasing
   std::vector<double> PolarCosine;         ///< cos(theta_j)
-  std::vector<dvec3> HalfPlanes;           ///< (cos phi_k, sin phi_k, phi_k)
-  bool FullCircle = false;
+  std::shared_ptr<const traversal::AzimuthSweep> Azimuth; ///< the half-planes
+
 };
 
 /// Line integral of a cell-constant field over the segments: sum of value(cell) x length

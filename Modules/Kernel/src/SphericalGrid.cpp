@@ -1,5 +1,7 @@
 #include "sightline/SphericalGrid.h"
 
+#include "GridTraversal.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -7,52 +9,17 @@
 
 namespace sightline
 {
-namespace
-{
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kTwoPi = 2.0 * kPi;
-
-void checkBreakpoints(const std::vector<double>& v, const char* name)
-{
-  if (v.size() < 2)
-    throw std::invalid_argument(std::string("sightline::SphericalGrid: ") + name + " needs at least 2 breakpoints, got " +
-      std::to_string(v.size()));
-  for (std::size_t i = 0; i < v.size(); ++i)
-  {
-    if (!std::isfinite(v[i]))
-      throw std::invalid_argument(std::string("sightline::SphericalGrid: ") + name + " breakpoint " +
-        std::to_string(i) + " is not finite");
-    if (i > 0 && !(v[i] > v[i - 1]))
-      throw std::invalid_argument(std::string("sightline::SphericalGrid: ") + name + " breakpoints are not strictly increasing at " +
-        std::to_string(i) + " (" + std::to_string(v[i - 1]) + ", " + std::to_string(v[i]) + ")");
-  }
-}
-
-/// A transition of one coordinate's index along the ray.
-struct Transition
-{
-  double t;
-  int index; ///< the index after the crossing
-};
-
-/// Keeps the list's t ascending and inside [tmin, tmax] (rounding near hinges may swap
-/// neighbours by an ulp).
-void clampAscending(std::vector<Transition>& list, double tmin, double tmax)
-{
-  double previous = tmin;
-  for (Transition& x : list)
-  {
-    x.t = std::min(tmax, std::max(previous, x.t));
-    previous = x.t;
-  }
-}
-} // namespace
+using traversal::checkBreakpoints;
+using traversal::clampAscending;
+using traversal::kPi;
+using traversal::kTwoPi;
+using traversal::Transition;
 
 void SphericalGrid::validate() const
 {
-  checkBreakpoints(radius, "radius");
-  checkBreakpoints(polar, "polar angle");
-  checkBreakpoints(azimuth, "azimuth");
+  checkBreakpoints(radius, "SphericalGrid", "radius");
+  checkBreakpoints(polar, "SphericalGrid", "polar angle");
+  checkBreakpoints(azimuth, "SphericalGrid", "azimuth");
   if (radius.front() < 0.0)
     throw std::invalid_argument("sightline::SphericalGrid: radius breakpoints start below 0 (" +
       std::to_string(radius.front()) + ")");
@@ -67,13 +34,13 @@ void SphericalGrid::validate() const
 
 bool SphericalGrid::fullCircle() const
 {
-  return std::abs((azimuth.back() - azimuth.front()) - kTwoPi) <= 1e-12 * kTwoPi;
+  return traversal::spansFullCircle(azimuth);
 }
 
 SphericalTraversal::SphericalTraversal(SphericalGrid grid)
-  : Grid(std::move(grid))
+  : Grid((grid.validate(), std::move(grid)))
+  , Azimuth(std::make_shared<traversal::AzimuthSweep>(Grid.azimuth))
 {
-  Grid.validate();
   for (double r : Grid.radius)
     RadiusSquared.push_back(r * r);
   for (double theta : Grid.polar)
@@ -83,9 +50,6 @@ SphericalTraversal::SphericalTraversal(SphericalGrid grid)
     PolarCosine.push_back(c);
     SignedCosineSquared.push_back(c * std::abs(c));
   }
-  for (double phi : Grid.azimuth)
-    HalfPlanes.push_back(dvec3(std::cos(phi), std::sin(phi), phi));
-  FullCircle = Grid.fullCircle();
 }
 
 void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, double tmax,
@@ -114,28 +78,14 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
     return;
   const dvec3 start = p + tmin * d, end = p + tmax * d;
 
-  // Radius: r^2 falls until tClosest and rises after. Index i is the shell [r_i, r_{i+1});
-  // -1 below r_0, n - 1 at or beyond the outer sphere.
-  auto radialIndex = [&](double r2)
-  { return int(std::upper_bound(RadiusSquared.begin(), RadiusSquared.end(), r2) - RadiusSquared.begin()) - 1; };
   // Per-thread scratch lists: no heap allocation per ray once they have grown.
   thread_local std::vector<Transition> radial, polarList, azimuthList;
-  thread_local std::vector<std::pair<double, int>> crossings; // (unwrapped angle, breakpoint)
   radial.clear();
   polarList.clear();
   azimuthList.clear();
-  {
-    const int first = radialIndex(glm::dot(start, start));
-    const int last = radialIndex(glm::dot(end, end));
-    // The lowest shell: at the hinge when it lies inside [tmin, tmax], else at whichever end is
-    // nearer to it (a ray ending before its closest approach only falls).
-    const int lowest = tClosest <= tmin ? first : tClosest >= tmax ? last : radialIndex(closestSquared);
-    for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
-      radial.push_back({ tClosest - halfChordOf(Grid.radius[std::size_t(i)]), i - 1 });
-    for (int i = lowest; i < last; ++i) // rising: leave shell i through r_{i+1}
-      radial.push_back({ tClosest + halfChordOf(Grid.radius[std::size_t(i + 1)]), i + 1 });
-    clampAscending(radial, tmin, tmax);
-  }
+  // Radius: r^2 falls until tClosest and rises after. Index i is the shell [r_i, r_{i+1}).
+  const int radialStart = traversal::radialTransitions(Grid.radius, RadiusSquared, tClosest,
+    closestDistance, dd, tmin, tmax, glm::dot(start, start), glm::dot(end, end), radial);
 
   // Polar angle: s = cos theta |cos theta| along the line is ditone; its hinge is where
   // (dz |p|^2 - pz p.d) + t (dz p.d - pz |d|^2) vanishes. Index j is [theta_j, theta_{j+1}),
@@ -232,135 +182,13 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
 
   // Azimuth: monotone along the line, rising when (p x d).z > 0; a line through the z axis
   // jumps by pi there. Index k is [phi_k, phi_{k+1}); -1 outside a wedge.
-  const int azimuthCount = int(HalfPlanes.size());
-  const double phi0 = HalfPlanes.front().z;
-  auto unwrap = [&](const dvec3& x)
-  {
-    double phi = std::atan2(x.y, x.x);
-    phi = phi0 + std::fmod(std::fmod(phi - phi0, kTwoPi) + kTwoPi, kTwoPi); // in [phi0, phi0 + 2 pi)
-    return phi;
-  };
-  auto azimuthIndex = [&](double phi)
-  {
-    const int k = int(std::upper_bound(Grid.azimuth.begin(), Grid.azimuth.end(), phi) - Grid.azimuth.begin()) - 1;
-    if (k >= azimuthCount - 1)
-      return FullCircle ? azimuthCount - 2 : -1;
-    return k;
-  };
-  int azimuthStart = 0;
-  {
-    const double turn = p.x * d.y - p.y * d.x; // (p x d).z
-    const double dxy = d.x * d.x + d.y * d.y;
-    const double scaleXY = std::sqrt((p.x * p.x + p.y * p.y) * dxy);
-    const bool throughAxis = dxy > 0.0 && std::abs(turn) <= 1e-14 * scaleXY;
-    const double tAxis = dxy > 0.0 ? -(p.x * d.x + p.y * d.y) / dxy : 0.0;
-    // A line through the z axis has azimuth atan2(-d) before the axis and atan2(d) after it,
-    // exactly, whatever rounding leaves of the points next to the axis. A vertical line keeps
-    // its azimuth (0 by convention on the axis itself).
-    double phiStart;
-    if (throughAxis)
-      phiStart = tAxis > tmin ? unwrap(-d) : unwrap(d);
-    else
-      phiStart = unwrap(start);
-    azimuthStart = azimuthIndex(phiStart);
-    if (dxy > 0.0)
-    {
-      double phiEnd;
-      bool rising;
-      if (throughAxis)
-      {
-        rising = true; // the jump by pi, taken as a rise
-        phiEnd = tAxis > tmin && tAxis < tmax ? phiStart + kPi : phiStart;
-      }
-      else
-      {
-        rising = turn > 0.0;
-        double phiEndRaw = unwrap(end);
-        // The sweep is under pi: unwrap the end next to the start, in the sweep's direction.
-        if (rising && phiEndRaw < phiStart)
-          phiEndRaw += kTwoPi;
-        if (!rising && phiEndRaw > phiStart)
-          phiEndRaw -= kTwoPi;
-        phiEnd = phiEndRaw;
-      }
-      // Boundaries strictly between the two azimuths, in sweep order, as unwrapped angles.
-      int index = azimuthStart;
-      crossings.clear();
-      // The half-planes' angles over three laps, phi_k + lap 2 pi (the full circle's last
-      // breakpoint is its first), form one increasing sequence: binary search for the first
-      // one past the start, then walk in the sweep's direction to the end.
-      const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
-      auto angleOf = [&](int v) { return Grid.azimuth[std::size_t(v % perLap)] + (v / perLap - 1) * kTwoPi; };
-      int lo = 0, hi = 3 * perLap; // first v with angle > phiStart
-      while (lo < hi)
-      {
-        const int mid = (lo + hi) / 2;
-        if (angleOf(mid) > phiStart)
-          hi = mid;
-        else
-          lo = mid + 1;
-      }
-      // A start exactly on phi_k counts as wedge k: rising it stays, falling it leaves.
-      if (rising)
-        for (int v = lo; v < 3 * perLap && angleOf(v) <= phiEnd; ++v)
-          crossings.push_back({ angleOf(v), v % perLap });
-      else
-        for (int v = lo - 1; v >= 0 && angleOf(v) >= phiEnd; --v)
-          crossings.push_back({ angleOf(v), v % perLap });
-      for (const auto& crossing : crossings)
-      {
-        const int k = crossing.second;
-        const dvec3& h = HalfPlanes[std::size_t(k)];
-        double t = tAxis;
-        if (!throughAxis)
-        {
-          const double denominator = d.y * h.x - d.x * h.y;
-          t = denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
-        }
-        // Rising through phi_k enters wedge k; falling through it enters wedge k - 1.
-        if (rising)
-          index = (k == azimuthCount - 1) ? -1 : k;
-        else
-          index = k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1;
-        azimuthList.push_back({ t, index });
-      }
-      clampAscending(azimuthList, tmin, tmax);
-    }
-  }
+  const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, azimuthList);
 
   // Merge the three ascending lists, emitting the pieces inside the section.
-  int ir = radialIndex(glm::dot(start, start)), it = polarIndex(start), ip = azimuthStart;
-  const int nr = Grid.radialCells(), nt = Grid.polarCells();
-  std::size_t a = 0, b = 0, c = 0;
-  double t0 = tmin;
-  auto emit = [&](double t1)
-  {
-    if (t1 > t0 && ir >= 0 && ir < nr && it >= 0 && it < nt && ip >= 0)
-      out.push_back({ ir, it, ip, t0, t1 });
-    t0 = std::max(t0, t1);
-  };
-  while (a < radial.size() || b < polarList.size() || c < azimuthList.size())
-  {
-    const double ta = a < radial.size() ? radial[a].t : 1e300;
-    const double tb = b < polarList.size() ? polarList[b].t : 1e300;
-    const double tc = c < azimuthList.size() ? azimuthList[c].t : 1e300;
-    if (ta <= tb && ta <= tc)
-    {
-      emit(ta);
-      ir = radial[a++].index;
-    }
-    else if (tb <= tc)
-    {
-      emit(tb);
-      it = polarList[b++].index;
-    }
-    else
-    {
-      emit(tc);
-      ip = azimuthList[c++].index;
-    }
-  }
-  emit(tmax);
+  const int first[3] = { radialStart, polarIndex(start), azimuthStart };
+  const std::vector<Transition>* lists[3] = { &radial, &polarList, &azimuthList };
+  const int counts[3] = { Grid.radialCells(), Grid.polarCells(), Grid.azimuthalCells() };
+  traversal::mergeTransitions(first, lists, counts, tmin, tmax, out);
 }
 
 double projectCellConstant(const SphericalGrid& grid, const std::vector<double>& values,

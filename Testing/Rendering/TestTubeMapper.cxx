@@ -228,6 +228,24 @@ TEST(TubeMapper, TranslucentTubesCompositeWithOpenGLGeometry)
   EXPECT_TRUE(MatchesBaseline(image, "TubeTranslucent", 0.5));
 }
 
+// VTK's default windows are multisampled; the opaque depth the rays stop at must still be read
+// (glReadPixels on a multisampled framebuffer returns nothing): the same pixels as without.
+TEST(TubeMapper, TranslucentTubesInMultisampledWindows)
+{
+  TranslucentScene plain(true, true), multisampled(true, true);
+  multisampled.window->SetMultiSamples(8);
+  plain.window->Render();
+  multisampled.window->Render();
+  auto a = CaptureRGB(plain.window), b = CaptureRGB(multisampled.window);
+  const auto behind = PixelOf(plain.renderer, 0.2, 0.0, -1.2);
+  const auto pa = Pixel(a, behind[0], behind[1]), pb = Pixel(b, behind[0], behind[1]);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(pa[c], pb[c], 3) << "the sphere behind the tube, channel " << c;
+  int differing = 0;
+  MaxRGBDifference(a, b, &differing);
+  EXPECT_LT(differing, 320 * 240 / 50) << "only antialiased edges may differ";
+}
+
 TEST(TubeMapper, BadInputIsReportedByName)
 {
   auto render = [](vtkPolyData* input, void (*configure)(vtkSightlineTubeMapper*))

@@ -208,3 +208,43 @@ TEST(SphericalSamplers, BadNodeCounts)
   EXPECT_THROW(projectLinearInRadiusSquared(grid, std::vector<double>(3), segments, dvec3(0.0), dvec3(1.0, 0.0, 0.0)),
     std::invalid_argument);
 }
+
+// Numerical stress: the same grid and rays scaled by 1e-6 and 1e6 (relative precision must not
+// depend on units), and rays that start 1e3 radii away (the closest-approach form keeps the
+// chords accurate; the error may grow with the distance, but stays far below 1e-9 here).
+TEST(SphericalSamplers, ScaleAndDistanceStress)
+{
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double scale : { 1e-6, 1.0, 1e6 })
+    for (double distance : { 2.0, 1e3 })
+    {
+      SphericalGrid grid = unitBall();
+      for (double& r : grid.radius)
+        r *= scale;
+      const SphericalTraversal traversal(grid);
+      const RadialStepField chi{ { 0.5 * scale, scale }, { 2.0, 1.0 } };
+      const std::vector<double> cells = sampleCellMidpoints(grid, [&](double r, double, double) { return chi(r); });
+      std::vector<CellSegment> segments;
+      double worst = 0.0;
+      int hits = 0;
+      for (int i = 0; i < 300; ++i)
+      {
+        const dvec3 d = glm::normalize(dvec3(u(rng), u(rng), u(rng)));
+        const dvec3 target = scale * dvec3(u(rng), u(rng), u(rng));
+        const dvec3 o = target - distance * scale * d;
+        traversal.traverse(o, d, 0.0, 2.0 * distance * scale, segments);
+        const double ours = projectCellConstant(grid, cells, segments, 1.0);
+        const double exact = chi.rayIntegral(o, d, 0.0, 2.0 * distance * scale);
+        if (exact > 0.0)
+        {
+          ++hits;
+          worst = std::max(worst, std::abs(ours - exact) / exact);
+        }
+      }
+      std::printf("scale %g, origins %g radii away: %d rays through the ball, worst relative error %.2e\n",
+        scale, distance, hits, worst);
+      EXPECT_GT(hits, 50);
+      EXPECT_LT(worst, 1e-9);
+    }
+}

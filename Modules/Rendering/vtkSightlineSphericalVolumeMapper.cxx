@@ -21,6 +21,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include "sightline/CylindricalGrid.h"
 #include "sightline/Framebuffer.h"
 #include "sightline/SphericalFields.h"
 #include "sightline/SphericalVolume.h"
@@ -38,7 +39,9 @@ class vtkSightlineSphericalVolumeMapper::vtkInternals
 {
 public:
   // The input as a kernel grid and cell values, rebuilt when the input or the mapper change.
-  std::unique_ptr<sightline::SphericalTraversal> Traversal;
+  std::unique_ptr<sightline::SphericalTraversal> Traversal;  // spherical input, or
+  std::unique_ptr<sightline::CylindricalTraversal> Cylinder; // cylindrical input
+  std::vector<sightline::dvec3> Centres;                     // for shading, on first use
   std::vector<double> Values;
   std::vector<sightline::dvec3> Gradients; // computed on first use with shading
   vtkTimeStamp GridTime;
@@ -131,6 +134,15 @@ void SectionBounds(const sightline::SphericalGrid& grid, double bounds[6])
     }
   }
 }
+
+// Box of a cylindrical section: x and y as a spherical section's equator, z from the heights.
+void SectionBounds(const sightline::CylindricalGrid& grid, double bounds[6])
+{
+  sightline::SphericalGrid equator{ grid.radius, { 0.0, 0.5 * vtkMath::Pi(), vtkMath::Pi() }, grid.azimuth };
+  SectionBounds(equator, bounds);
+  bounds[4] = grid.height.front();
+  bounds[5] = grid.height.back();
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -144,50 +156,84 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
   auto* input = vtkRectilinearGrid::SafeDownCast(this->GetInputDataObject(0, 0));
   if (!input)
   {
-    vtkErrorMacro(<< "No input: connect a vtkRectilinearGrid whose x, y, z are r, theta, phi.");
+    vtkErrorMacro(<< "No input: connect a vtkRectilinearGrid whose x, y, z are r, theta, phi "
+                     "(or rho, phi, z).");
     in.Traversal.reset();
+    in.Cylinder.reset();
     return false;
   }
-  if (in.Traversal && in.GridTime > input->GetMTime() && in.GridTime > this->GetMTime())
+  if ((in.Traversal || in.Cylinder) && in.GridTime > input->GetMTime() &&
+    in.GridTime > this->GetMTime())
   {
     return true;
   }
   in.Traversal.reset();
+  in.Cylinder.reset();
   in.Gradients.clear();
+  in.Centres.clear();
 
   const double angleScale = this->AngleUnits == DEGREES ? vtkMath::Pi() / 180.0 : 1.0;
-  sightline::SphericalGrid grid;
-  grid.radius = Coordinates(input->GetXCoordinates(), 1.0);
-  grid.polar = Coordinates(input->GetYCoordinates(), angleScale);
-  grid.azimuth = Coordinates(input->GetZCoordinates(), angleScale);
-  const bool latitude = this->PolarAngle == LATITUDE;
-  if (latitude)
+  const bool cylindrical = this->CoordinateSystem == CYLINDRICAL;
+  const bool latitude = !cylindrical && this->PolarAngle == LATITUDE;
+  sightline::SphericalGrid sphere;
+  sightline::CylindricalGrid cylinder;
+  int dims[3]; // cells along x, y, z of the input
+  if (cylindrical)
   {
-    // Colatitude = pi/2 - latitude reverses the order of the polar breakpoints and cells.
-    for (double& b : grid.polar)
+    cylinder.radius = Coordinates(input->GetXCoordinates(), 1.0);
+    cylinder.azimuth = Coordinates(input->GetYCoordinates(), angleScale);
+    cylinder.height = Coordinates(input->GetZCoordinates(), 1.0);
+    try
     {
-      b = 0.5 * vtkMath::Pi() - b;
+      cylinder.validate();
     }
-    std::reverse(grid.polar.begin(), grid.polar.end());
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< "The input is not a cylindrical grid (x = rho, y = azimuth in "
+                    << (this->AngleUnits == DEGREES ? "degrees" : "radians") << ", z = height): "
+                    << e.what());
+      return false;
+    }
+    dims[0] = cylinder.radialCells();
+    dims[1] = cylinder.azimuthalCells();
+    dims[2] = cylinder.heightCells();
   }
-  // Degrees converted to radians may land a rounding error outside [0, pi].
-  for (double& b : grid.polar)
+  else
   {
-    if (std::abs(b) < 1e-12)
-      b = 0.0;
-    if (std::abs(b - vtkMath::Pi()) < 1e-12)
-      b = vtkMath::Pi();
-  }
-  try
-  {
-    grid.validate();
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< "The input is not a spherical grid (x = r, y = "
-                  << (latitude ? "latitude" : "colatitude") << ", z = azimuth, angles in "
-                  << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "): " << e.what());
-    return false;
+    sphere.radius = Coordinates(input->GetXCoordinates(), 1.0);
+    sphere.polar = Coordinates(input->GetYCoordinates(), angleScale);
+    sphere.azimuth = Coordinates(input->GetZCoordinates(), angleScale);
+    if (latitude)
+    {
+      // Colatitude = pi/2 - latitude reverses the order of the polar breakpoints and cells.
+      for (double& b : sphere.polar)
+      {
+        b = 0.5 * vtkMath::Pi() - b;
+      }
+      std::reverse(sphere.polar.begin(), sphere.polar.end());
+    }
+    // Degrees converted to radians may land a rounding error outside [0, pi].
+    for (double& b : sphere.polar)
+    {
+      if (std::abs(b) < 1e-12)
+        b = 0.0;
+      if (std::abs(b - vtkMath::Pi()) < 1e-12)
+        b = vtkMath::Pi();
+    }
+    try
+    {
+      sphere.validate();
+    }
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< "The input is not a spherical grid (x = r, y = "
+                    << (latitude ? "latitude" : "colatitude") << ", z = azimuth, angles in "
+                    << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "): " << e.what());
+      return false;
+    }
+    dims[0] = sphere.radialCells();
+    dims[1] = sphere.polarCells();
+    dims[2] = sphere.azimuthalCells();
   }
 
   int cellFlag = 0;
@@ -199,9 +245,10 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
                      "SelectScalarArray).");
     return false;
   }
-  const int nr = grid.radialCells(), nt = grid.polarCells(), np = grid.azimuthalCells();
-  const vtkIdType expected = cellFlag == 1 ? vtkIdType(grid.cellCount())
-                                           : vtkIdType(nr + 1) * vtkIdType(nt + 1) * vtkIdType(np + 1);
+  const int n0 = dims[0], n1 = dims[1], n2 = dims[2];
+  const vtkIdType cells = vtkIdType(n0) * n1 * n2;
+  const vtkIdType expected =
+    cellFlag == 1 ? cells : vtkIdType(n0 + 1) * vtkIdType(n1 + 1) * vtkIdType(n2 + 1);
   if (scalars->GetNumberOfTuples() != expected)
   {
     vtkErrorMacro(<< "The scalar array '" << (scalars->GetName() ? scalars->GetName() : "")
@@ -215,19 +262,21 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
                     << " components of '" << (scalars->GetName() ? scalars->GetName() : "")
                     << "' is rendered.");
   }
-  in.Values.assign(grid.cellCount(), 0.0);
+  // Both kernel grids order cells as the input does (x fastest, then y, then z), except that
+  // latitude input reverses y.
+  in.Values.assign(std::size_t(cells), 0.0);
   vtkIdType nanCount = 0;
-  for (int k = 0; k < np; ++k)
+  for (int k = 0; k < n2; ++k)
   {
-    for (int j = 0; j < nt; ++j)
+    for (int j = 0; j < n1; ++j)
     {
-      const int jInput = latitude ? nt - 1 - j : j;
-      for (int i = 0; i < nr; ++i)
+      const int jInput = latitude ? n1 - 1 - j : j;
+      for (int i = 0; i < n0; ++i)
       {
         double value = 0.0;
         if (cellFlag == 1)
         {
-          value = scalars->GetComponent(i + vtkIdType(nr) * (jInput + vtkIdType(nt) * k), 0);
+          value = scalars->GetComponent(i + vtkIdType(n0) * (jInput + vtkIdType(n1) * k), 0);
         }
         else
         {
@@ -236,7 +285,7 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
           {
             const vtkIdType pi = i + (corner & 1), pj = jInput + ((corner >> 1) & 1),
                             pk = k + ((corner >> 2) & 1);
-            value += scalars->GetComponent(pi + vtkIdType(nr + 1) * (pj + vtkIdType(nt + 1) * pk), 0);
+            value += scalars->GetComponent(pi + vtkIdType(n0 + 1) * (pj + vtkIdType(n1 + 1) * pk), 0);
           }
           value *= 0.125;
         }
@@ -244,7 +293,7 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
         {
           ++nanCount;
         }
-        in.Values[grid.cellIndex(i, j, k)] = value;
+        in.Values[std::size_t(i) + std::size_t(n0) * (std::size_t(j) + std::size_t(n1) * k)] = value;
       }
     }
   }
@@ -252,8 +301,16 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
   {
     vtkWarningMacro(<< nanCount << " cells have NaN values; they are drawn empty.");
   }
-  SectionBounds(grid, in.Bounds);
-  in.Traversal = std::make_unique<sightline::SphericalTraversal>(std::move(grid));
+  if (cylindrical)
+  {
+    SectionBounds(cylinder, in.Bounds);
+    in.Cylinder = std::make_unique<sightline::CylindricalTraversal>(std::move(cylinder));
+  }
+  else
+  {
+    SectionBounds(sphere, in.Bounds);
+    in.Traversal = std::make_unique<sightline::SphericalTraversal>(std::move(sphere));
+  }
   in.GridTime.Modified();
   return true;
 }
@@ -354,14 +411,17 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
   try
   {
     const sightline::Camera view(worldToClip * objectToWorld, width, height);
-    const sightline::SphericalGrid& grid = in.Traversal->grid();
     std::vector<sightline::TransferSample> shaded;
     const std::vector<sightline::TransferSample>* cells = &in.Unshaded;
     if (property->GetShade(0))
     {
       if (in.Gradients.empty())
       {
-        in.Gradients = sightline::sphericalCellGradients(grid, in.Values);
+        in.Gradients = in.Cylinder
+          ? sightline::cylindricalCellGradients(in.Cylinder->grid(), in.Values)
+          : sightline::sphericalCellGradients(in.Traversal->grid(), in.Values);
+        in.Centres = in.Cylinder ? sightline::cellCentres(in.Cylinder->grid())
+                                 : sightline::cellCentres(in.Traversal->grid());
       }
       sightline::Material material;
       material.ambient = static_cast<float>(property->GetAmbient(0));
@@ -377,7 +437,7 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
           sightline::vec3(glm::normalize(worldToGrid * sightline::dvec3(light.direction)));
       }
       shaded = in.Unshaded;
-      sightline::shadeCells(grid, in.Gradients, material, lighting, view, shaded);
+      sightline::shadeCells(in.Centres, in.Gradients, material, lighting, view, shaded);
       cells = &shaded;
     }
     sightline::SphericalVolumeOptions options;
@@ -388,8 +448,9 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
       this->UpdateProgress(fraction);
       return !this->AbortExecute;
     };
-    const sightline::SphericalVolumeStatistics stats =
-      sightline::renderSphericalVolume(*in.Traversal, *cells, view, framebuffer, options);
+    const sightline::SphericalVolumeStatistics stats = in.Cylinder
+      ? sightline::renderCylindricalVolume(*in.Cylinder, *cells, view, framebuffer, options)
+      : sightline::renderSphericalVolume(*in.Traversal, *cells, view, framebuffer, options);
     this->LastFrameSeconds = stats.seconds;
     this->LastCellsVisited = static_cast<vtkIdType>(stats.cellsVisited);
   }
@@ -503,6 +564,14 @@ void vtkSightlineSphericalVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";
   os << indent << "LastCellsVisited: " << this->LastCellsVisited << "\n";
+  os << indent << "CoordinateSystem: "
+     << (this->CoordinateSystem == CYLINDRICAL ? "cylindrical" : "spherical") << "\n";
+  if (const auto& cylinder = this->Internals->Cylinder)
+  {
+    const sightline::CylindricalGrid& grid = cylinder->grid();
+    os << indent << "Grid: " << grid.radialCells() << " x " << grid.azimuthalCells() << " x "
+       << grid.heightCells() << " cells (rho, phi, z)\n";
+  }
   if (const auto& traversal = this->Internals->Traversal)
   {
     const sightline::SphericalGrid& grid = traversal->grid();

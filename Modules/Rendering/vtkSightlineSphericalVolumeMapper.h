@@ -1,6 +1,7 @@
 /**
  * @class   vtkSightlineSphericalVolumeMapper
- * @brief   Volume mapper that ray-casts spherical grids (r, theta, phi) natively, cell by cell.
+ * @brief   Volume mapper that ray-casts spherical grids (r, theta, phi), and cylindrical ones,
+ *          natively, cell by cell.
  *
  * The input is a vtkRectilinearGrid whose x, y and z coordinates are the radius r, the polar
  * angle and the azimuth phi of a spherical grid (breakpoints may be non-uniform; a section,
@@ -8,6 +9,10 @@
  * through the grid's cells (sightline::SphericalTraversal, after "Ray casting in spherical
  * coordinates"): no resampling to a Cartesian image, so layer boundaries stay spheres and
  * cones at any zoom.
+ *
+ * Cylindrical grids (SetCoordinateSystemToCylindrical) are read as x = rho (the distance from
+ * the z axis), y = azimuth (AngleUnits apply), z = height, and traversed by the same scheme
+ * (sightline::CylindricalTraversal).
  *
  * Convention (see SetAngleUnits, SetPolarAngle):
  * - x: radius r >= 0, in world units (the vtkVolume's matrix places and scales it);
@@ -65,6 +70,22 @@ public:
   static vtkSightlineSphericalVolumeMapper* New();
   vtkTypeMacro(vtkSightlineSphericalVolumeMapper, vtkVolumeMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum CoordinateSystems
+  {
+    SPHERICAL = 0, ///< x = r, y = polar angle, z = azimuth
+    CYLINDRICAL    ///< x = rho (distance from the z axis), y = azimuth, z = height
+  };
+
+  ///@{
+  /**
+   * How the input's coordinates are read. Default SPHERICAL.
+   */
+  vtkSetClampMacro(CoordinateSystem, int, SPHERICAL, CYLINDRICAL);
+  vtkGetMacro(CoordinateSystem, int);
+  void SetCoordinateSystemToSpherical() { this->SetCoordinateSystem(SPHERICAL); }
+  void SetCoordinateSystemToCylindrical() { this->SetCoordinateSystem(CYLINDRICAL); }
+  ///@}
 
   enum AngleUnit
   {
@@ -155,6 +176,7 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
+  int CoordinateSystem = SPHERICAL;
   int AngleUnits = RADIANS;
   int PolarAngle = COLATITUDE;
   double MinimumTransmittance = 0.002;

@@ -457,3 +457,74 @@ TEST(SphericalVolumeMapper, EarthMatchesBaseline)
   window.window->Render();
   EXPECT_TRUE(MatchesBaseline(CaptureRGB(window.window), "SphericalVolumeEarth", 0.5));
 }
+
+// A homogeneous cylinder (rho < 0.8, |z| < 0.6) read as a cylindrical grid, seen along its axis
+// (vertical rays: the chord is the height) and from the side (the chord is 2 sqrt(0.64 - x^2)
+// where |z| < 0.6): opacity 1 - exp(-tau chord) per pixel.
+TEST(SphericalVolumeMapper, CylindricalGridMatchesTheClosedForm)
+{
+  auto grid = vtkSmartPointer<vtkRectilinearGrid>::New();
+  const std::vector<double> rho{ 0.0, 0.3, 0.55, 0.8 }, phi{ 0.0, 1.0, 2.5, 4.0, 2.0 * kPi },
+    z{ -0.6, -0.1, 0.2, 0.6 };
+  grid->SetDimensions(int(rho.size()), int(phi.size()), int(z.size()));
+  int axis = 0;
+  for (const std::vector<double>* b : { &rho, &phi, &z })
+  {
+    vtkNew<vtkDoubleArray> array;
+    for (double v : *b)
+      array->InsertNextValue(v);
+    if (axis == 0)
+      grid->SetXCoordinates(array);
+    else if (axis == 1)
+      grid->SetYCoordinates(array);
+    else
+      grid->SetZCoordinates(array);
+    ++axis;
+  }
+  vtkNew<vtkDoubleArray> values;
+  values->SetNumberOfTuples(grid->GetNumberOfCells());
+  values->Fill(1.0);
+  grid->GetCellData()->SetScalars(values);
+
+  VolumeScene scene;
+  scene.mapper->SetInputDataObject(grid);
+  scene.mapper->SetCoordinateSystemToCylindrical();
+  scene.color->RemoveAllPoints();
+  scene.color->AddRGBPoint(0.0, 1.0, 1.0, 1.0);
+  scene.opacity->RemoveAllPoints();
+  scene.opacity->AddPoint(0.0, 0.4);
+  scene.opacity->AddPoint(2.0, 0.4);
+  const double unit = 0.8, tau = -std::log(1.0 - 0.4) / unit;
+  scene.property->SetScalarOpacityUnitDistance(unit);
+  const double* bounds = scene.mapper->GetBounds();
+  EXPECT_NEAR(bounds[0], -0.8, 1e-12);
+  EXPECT_NEAR(bounds[3], 0.8, 1e-12);
+  EXPECT_NEAR(bounds[5], 0.6, 1e-12);
+
+  const int size = 48;
+  const double scale = 1.0;
+  for (const bool side : { false, true })
+  {
+    auto camera = MakeCamera(true, 10.0, scale);
+    if (side)
+    {
+      camera->SetPosition(0.0, -10.0, 0.0); // looking along +y, z up
+      camera->SetViewUp(0.0, 0.0, 1.0);
+    }
+    vtkSmartPointer<vtkImageData> image = RenderVolumeWithoutGL(scene.volume, {}, camera, size, size);
+    double worst = 0.0;
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x)
+      {
+        const double u = ((x + 0.5) / size * 2.0 - 1.0) * scale, v = ((y + 0.5) / size * 2.0 - 1.0) * scale;
+        double chord;
+        if (side)
+          chord = std::abs(v) < 0.6 && std::abs(u) < 0.8 ? 2.0 * std::sqrt(0.64 - u * u) : 0.0;
+        else
+          chord = u * u + v * v < 0.64 ? 1.2 : 0.0;
+        const double alpha = 1.0 - std::exp(-tau * chord);
+        worst = std::max(worst, std::abs(Pixel(image, x, y)[0] - 255.0 * alpha));
+      }
+    EXPECT_LE(worst, 1.0) << (side ? "side view" : "along the axis");
+  }
+}

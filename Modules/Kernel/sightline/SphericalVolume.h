@@ -1,10 +1,12 @@
-// Emission-absorption volume rendering of a spherical grid (SphericalGrid.h) straight from its
-// cells: every pixel's ray is traversed exactly and each cell it crosses contributes its
-// transfer-function colour and extinction over the exact length inside it. No resampling.
+// Emission-absorption volume rendering of a spherical grid (SphericalGrid.h), or a cylindrical
+// one (CylindricalGrid.h), straight from its cells: every pixel's ray is traversed exactly and
+// each cell it crosses contributes its transfer-function colour and extinction over the exact
+// length inside it. No resampling.
 #pragma once
 
 #include "sightline/Camera.h"
 #include "sightline/Framebuffer.h"
+#include "sightline/CylindricalGrid.h"
 #include "sightline/Shading.h"
 #include "sightline/SphericalGrid.h"
 
@@ -51,11 +53,25 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
 /// phi = 0 on a full circle), in the local frame (e_r, e_theta / r, e_phi / (r sin theta)).
 std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values);
 
-/// Lights each cell's colour as a surface whose normal is the field's gradient (VTK's volume
-/// shading, two-sided), seen from the camera: Phong with the material's ambient, diffuse and
-/// specular terms. Cells with a zero gradient keep their unlit colour times (ambient + diffuse).
-/// Shading per cell, not per sample: the field is constant inside a cell.
-void shadeCells(const SphericalGrid& grid, const std::vector<dvec3>& gradients,
+/// The same for cylindrical grids (rho, phi, z; CylindricalGrid.h): rays are clipped to the
+/// cylinder around the outermost shell with a visible cell.
+SphericalVolumeStatistics renderCylindricalVolume(const CylindricalTraversal& traversal,
+  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options = {});
+
+/// Gradient of a cell-constant field on a cylindrical grid, as sphericalCellGradients, in the
+/// local frame (e_rho, e_phi / rho, e_z).
+std::vector<dvec3> cylindricalCellGradients(const CylindricalGrid& grid, const std::vector<double>& values);
+
+/// Cartesian centre of every cell (its coordinate midpoints), ordered as the grid's cellIndex.
+std::vector<dvec3> cellCentres(const SphericalGrid& grid);
+std::vector<dvec3> cellCentres(const CylindricalGrid& grid);
+
+/// Lights each cell's colour as a surface at its centre whose normal is the field's gradient
+/// (VTK's volume shading, two-sided), seen from the camera: Phong with the material's ambient,
+/// diffuse and specular terms. Cells with a zero gradient keep their unlit colour times
+/// (ambient + diffuse). Shading per cell, not per sample: the field is constant inside a cell.
+void shadeCells(const std::vector<dvec3>& centres, const std::vector<dvec3>& gradients,
   const Material& material, const Lighting& lighting, const Camera& camera,
   std::vector<TransferSample>& cells);
 } // namespace sightline

@@ -8,53 +8,94 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
 namespace sightline
 {
-SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
-  const std::vector<double>& values, const std::function<TransferSample(double)>& transfer,
-  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+namespace
 {
-  const SphericalGrid& grid = traversal.grid();
-  if (values.size() != grid.cellCount())
-    throw std::invalid_argument("sightline::renderSphericalVolume: " + std::to_string(values.size()) +
-      " values for " + std::to_string(grid.cellCount()) + " cells");
-  // The transfer function once per cell, not once per ray and cell.
-  std::vector<TransferSample> cells(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i)
-    cells[i] = transfer(values[i]);
-  return renderSphericalVolume(traversal, cells, camera, framebuffer, options);
-}
+// What the renderer needs from a kind of grid: its traversal, the value index of a segment's
+// cell, and the radius of the outermost shell holding a visible cell, to clip rays to (a sphere
+// for spherical grids, a cylinder around z for cylindrical ones).
+struct SphericalCells
+{
+  const SphericalTraversal& traversal;
+  std::size_t index(const CellSegment& s) const { return traversal.grid().cellIndex(s.r, s.theta, s.phi); }
+  const std::vector<double>& radii() const { return traversal.grid().radius; }
+  std::size_t cellCount() const { return traversal.grid().cellCount(); }
+  bool visibleShell(const std::vector<TransferSample>& cells, int i) const
+  {
+    const SphericalGrid& g = traversal.grid();
+    for (int k = 0; k < g.azimuthalCells(); ++k)
+      for (int j = 0; j < g.polarCells(); ++j)
+        if (cells[g.cellIndex(i, j, k)].extinction > 0.0)
+          return true;
+    return false;
+  }
+  bool clip(const dvec3& o, const dvec3& d, double radius, double t0, double t1, double& enter, double& leave) const
+  {
+    return sphereChord(o, d, radius, t0, t1, enter, leave);
+  }
+};
 
-SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
-  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
-  const SphericalVolumeOptions& options)
+struct CylindricalCells
+{
+  const CylindricalTraversal& traversal;
+  std::size_t index(const CellSegment& s) const { return traversal.grid().cellIndex(s.r, s.phi, s.theta); }
+  const std::vector<double>& radii() const { return traversal.grid().radius; }
+  std::size_t cellCount() const { return traversal.grid().cellCount(); }
+  bool visibleShell(const std::vector<TransferSample>& cells, int i) const
+  {
+    const CylindricalGrid& g = traversal.grid();
+    for (int k = 0; k < g.heightCells(); ++k)
+      for (int j = 0; j < g.azimuthalCells(); ++j)
+        if (cells[g.cellIndex(i, j, k)].extinction > 0.0)
+          return true;
+    return false;
+  }
+  bool clip(const dvec3& o, const dvec3& d, double radius, double t0, double t1, double& enter, double& leave) const
+  {
+    const double a = d.x * d.x + d.y * d.y;
+    enter = t0;
+    leave = t1;
+    if (a == 0.0)
+      return std::hypot(o.x, o.y) < radius && t0 < t1;
+    const double tc = -(o.x * d.x + o.y * d.y) / a;
+    const double c = std::hypot(o.x + tc * d.x, o.y + tc * d.y);
+    if (!(c < radius))
+      return false;
+    const double half = std::sqrt((radius - c) * (radius + c) / a);
+    enter = std::max(t0, tc - half);
+    leave = std::min(t1, tc + half);
+    return enter < leave;
+  }
+};
+
+template <class Cells>
+SphericalVolumeStatistics renderCells(const Cells& grid, const std::vector<TransferSample>& cells,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options, const char* who)
 {
   const auto start = std::chrono::steady_clock::now();
-  const SphericalGrid& grid = traversal.grid();
   if (cells.size() != grid.cellCount())
-    throw std::invalid_argument("sightline::renderSphericalVolume: " + std::to_string(cells.size()) +
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(cells.size()) +
       " cell samples for " + std::to_string(grid.cellCount()) + " cells");
   framebuffer.resize(camera.width(), camera.height());
   if (options.depthLimit && options.depthLimit->size() != framebuffer.pixelCount())
-    throw std::invalid_argument("sightline::renderSphericalVolume: the depth limit has " +
+    throw std::invalid_argument(std::string("sightline::") + who + ": the depth limit has " +
       std::to_string(options.depthLimit->size()) + " values for " + std::to_string(framebuffer.pixelCount()) + " pixels");
 
-  // Empty space: rays are clipped to the sphere around the outermost shell with a visible cell,
-  // and nothing is traced when no cell is visible.
+  // Empty space: rays are clipped to the outermost shell with a visible cell, and nothing is
+  // traced when no cell is visible.
   double visibleRadius = -1.0;
-  for (int i = grid.radialCells() - 1; i >= 0 && visibleRadius < 0.0; --i)
-    for (int k = 0; k < grid.azimuthalCells() && visibleRadius < 0.0; ++k)
-      for (int j = 0; j < grid.polarCells(); ++j)
-        if (cells[grid.cellIndex(i, j, k)].extinction > 0.0)
-        {
-          visibleRadius = grid.radius[i + 1];
-          break;
-        }
+  for (int i = int(grid.radii().size()) - 2; i >= 0; --i)
+    if (grid.visibleShell(cells, i))
+    {
+      visibleRadius = grid.radii()[std::size_t(i) + 1];
+      break;
+    }
   SphericalVolumeStatistics stats;
   if (visibleRadius < 0.0)
   {
@@ -69,87 +110,128 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
   tbb::combinable<std::size_t> visited([] { return std::size_t(0); });
   for (int band = 0; band < bands; ++band)
   {
-  const int firstRow = int(std::int64_t(camera.height()) * band / bands);
-  const int endRow = int(std::int64_t(camera.height()) * (band + 1) / bands);
-  tbb::parallel_for(tbb::blocked_range<int>(firstRow, endRow),
-    [&](const tbb::blocked_range<int>& rows)
-    {
-      std::vector<CellSegment> segments;
-      std::size_t count = 0;
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < camera.width(); ++x)
-        {
-          const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
-          const dvec3 o(ray.origin), d(ray.direction);
-          double tmax = ray.tfar;
-          const std::size_t i = framebuffer.index(x, y);
-          if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
-            tmax = camera.primaryRayParameterAt(x + 0.5, y + 0.5, (*options.depthLimit)[i]);
-          double enter, leave;
-          if (!sphereChord(o, d, visibleRadius, ray.tnear, tmax, enter, leave))
-            continue;
-          traversal.traverse(o, d, enter, leave, segments);
-          double first = -1.0;
-          const vec4 rgba = compositeCells(
-            [&](const CellSegment& c) -> const TransferSample& { return cells[grid.cellIndex(c.r, c.theta, c.phi)]; },
-            segments, 1.0, options.minimumTransmittance, &first, &count);
-          if (!(rgba.a > 0.0f))
-            continue;
-          framebuffer.Color[i] = vec4(vec3(rgba) / rgba.a, rgba.a);
-          const dvec3 front = o + first * d;
-          framebuffer.Depth[i] = float(std::clamp(camera.windowDepth(front), 0.0, 1.0));
-          framebuffer.Distance[i] = float(first);
-        }
-      visited.local() += count;
-    });
-  if (options.progress && !options.progress(double(band + 1) / bands))
-    break;
+    const int firstRow = int(std::int64_t(camera.height()) * band / bands);
+    const int endRow = int(std::int64_t(camera.height()) * (band + 1) / bands);
+    tbb::parallel_for(tbb::blocked_range<int>(firstRow, endRow),
+      [&](const tbb::blocked_range<int>& rows)
+      {
+        std::vector<CellSegment> segments;
+        std::size_t count = 0;
+        for (int y = rows.begin(); y < rows.end(); ++y)
+          for (int x = 0; x < camera.width(); ++x)
+          {
+            const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+            const dvec3 o(ray.origin), d(ray.direction);
+            double tmax = ray.tfar;
+            const std::size_t i = framebuffer.index(x, y);
+            if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
+              tmax = camera.primaryRayParameterAt(x + 0.5, y + 0.5, (*options.depthLimit)[i]);
+            double enter, leave;
+            if (!grid.clip(o, d, visibleRadius, ray.tnear, tmax, enter, leave))
+              continue;
+            grid.traversal.traverse(o, d, enter, leave, segments);
+            double first = -1.0;
+            const vec4 rgba = compositeCells(
+              [&](const CellSegment& c) -> const TransferSample& { return cells[grid.index(c)]; }, segments, 1.0,
+              options.minimumTransmittance, &first, &count);
+            if (!(rgba.a > 0.0f))
+              continue;
+            framebuffer.Color[i] = vec4(vec3(rgba) / rgba.a, rgba.a);
+            const dvec3 front = o + first * d;
+            framebuffer.Depth[i] = float(std::clamp(camera.windowDepth(front), 0.0, 1.0));
+            framebuffer.Distance[i] = float(first);
+          }
+        visited.local() += count;
+      });
+    if (options.progress && !options.progress(double(band + 1) / bands))
+      break;
   }
   stats.cellsVisited = visited.combine([](std::size_t a, std::size_t b) { return a + b; });
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
+
+double centreOf(const std::vector<double>& b, int i)
+{
+  return 0.5 * (b[std::size_t(i)] + b[std::size_t(i) + 1]);
+}
+
+// d value / d coordinate between the neighbours of cell i along an axis of n cells with
+// breakpoints b: central differences, one-sided at a section's edges, across the seam of a
+// full circle.
+template <class ValueAt>
+double centralDifference(int i, int n, bool periodic, const std::vector<double>& b, const ValueAt& valueAt)
+{
+  if (n < 2)
+    return 0.0;
+  int lo = i - 1, hi = i + 1;
+  double clo, chi;
+  if (periodic)
+  {
+    const double span = b.back() - b.front();
+    clo = lo < 0 ? centreOf(b, n - 1) - span : centreOf(b, lo);
+    chi = hi >= n ? centreOf(b, 0) + span : centreOf(b, hi);
+    lo = (lo + n) % n;
+    hi = hi % n;
+  }
+  else
+  {
+    lo = std::max(lo, 0);
+    hi = std::min(hi, n - 1);
+    clo = centreOf(b, lo);
+    chi = centreOf(b, hi);
+  }
+  return (valueAt(hi) - valueAt(lo)) / (chi - clo);
+}
+
+void checkValueCount(std::size_t values, std::size_t cells, const char* who)
+{
+  if (values != cells)
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(values) +
+      " values for " + std::to_string(cells) + " cells");
+}
+} // namespace
+
+SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
+  const std::vector<double>& values, const std::function<TransferSample(double)>& transfer,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+{
+  checkValueCount(values.size(), traversal.grid().cellCount(), "renderSphericalVolume");
+  // The transfer function once per cell, not once per ray and cell.
+  std::vector<TransferSample> cells(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    cells[i] = transfer(values[i]);
+  return renderSphericalVolume(traversal, cells, camera, framebuffer, options);
+}
+
+SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
+  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options)
+{
+  return renderCells(SphericalCells{ traversal }, cells, camera, framebuffer, options, "renderSphericalVolume");
+}
+
+SphericalVolumeStatistics renderCylindricalVolume(const CylindricalTraversal& traversal,
+  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options)
+{
+  return renderCells(CylindricalCells{ traversal }, cells, camera, framebuffer, options, "renderCylindricalVolume");
+}
+
 std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values)
 {
-  if (values.size() != grid.cellCount())
-    throw std::invalid_argument("sightline::sphericalCellGradients: " + std::to_string(values.size()) +
-      " values for " + std::to_string(grid.cellCount()) + " cells");
+  checkValueCount(values.size(), grid.cellCount(), "sphericalCellGradients");
   const int nr = grid.radialCells(), nt = grid.polarCells(), np = grid.azimuthalCells();
   const bool wrap = grid.fullCircle();
-  auto centre = [](const std::vector<double>& b, int i) { return 0.5 * (b[i] + b[i + 1]); };
-  // d value / d coordinate between the neighbours of cell i along one axis.
-  auto difference = [&](int i, int n, bool periodic, const std::vector<double>& b, auto valueAt)
-  {
-    if (n < 2)
-      return 0.0;
-    int lo = i - 1, hi = i + 1;
-    double clo, chi;
-    if (periodic)
-    {
-      const double span = b.back() - b.front();
-      clo = lo < 0 ? centre(b, n - 1) - span : centre(b, lo);
-      chi = hi >= n ? centre(b, 0) + span : centre(b, hi);
-      lo = (lo + n) % n;
-      hi = hi % n;
-    }
-    else
-    {
-      lo = std::max(lo, 0);
-      hi = std::min(hi, n - 1);
-      clo = centre(b, lo);
-      chi = centre(b, hi);
-    }
-    return (valueAt(hi) - valueAt(lo)) / (chi - clo);
-  };
   std::vector<dvec3> gradients(values.size());
   for (int k = 0; k < np; ++k)
     for (int j = 0; j < nt; ++j)
       for (int i = 0; i < nr; ++i)
       {
-        const double r = centre(grid.radius, i), theta = centre(grid.polar, j), phi = centre(grid.azimuth, k);
-        const double dr = difference(i, nr, false, grid.radius, [&](int a) { return values[grid.cellIndex(a, j, k)]; });
-        const double dtheta = difference(j, nt, false, grid.polar, [&](int a) { return values[grid.cellIndex(i, a, k)]; });
-        const double dphi = difference(k, np, wrap, grid.azimuth, [&](int a) { return values[grid.cellIndex(i, j, a)]; });
+        const double r = centreOf(grid.radius, i), theta = centreOf(grid.polar, j), phi = centreOf(grid.azimuth, k);
+        const double dr = centralDifference(i, nr, false, grid.radius, [&](int a) { return values[grid.cellIndex(a, j, k)]; });
+        const double dtheta = centralDifference(j, nt, false, grid.polar, [&](int a) { return values[grid.cellIndex(i, a, k)]; });
+        const double dphi = centralDifference(k, np, wrap, grid.azimuth, [&](int a) { return values[grid.cellIndex(i, j, a)]; });
         const double st = std::sin(theta), ct = std::cos(theta), sp = std::sin(phi), cp = std::cos(phi);
         const dvec3 er(st * cp, st * sp, ct), et(ct * cp, ct * sp, -st), ep(-sp, cp, 0.0);
         dvec3 g = dr * er;
@@ -162,14 +244,60 @@ std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::
   return gradients;
 }
 
-void shadeCells(const SphericalGrid& grid, const std::vector<dvec3>& gradients,
+std::vector<dvec3> cylindricalCellGradients(const CylindricalGrid& grid, const std::vector<double>& values)
+{
+  checkValueCount(values.size(), grid.cellCount(), "cylindricalCellGradients");
+  const int nr = grid.radialCells(), np = grid.azimuthalCells(), nz = grid.heightCells();
+  const bool wrap = grid.fullCircle();
+  std::vector<dvec3> gradients(values.size());
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < np; ++j)
+      for (int i = 0; i < nr; ++i)
+      {
+        const double rho = centreOf(grid.radius, i), phi = centreOf(grid.azimuth, j);
+        const double drho = centralDifference(i, nr, false, grid.radius, [&](int a) { return values[grid.cellIndex(a, j, k)]; });
+        const double dphi = centralDifference(j, np, wrap, grid.azimuth, [&](int a) { return values[grid.cellIndex(i, a, k)]; });
+        const double dz = centralDifference(k, nz, false, grid.height, [&](int a) { return values[grid.cellIndex(i, j, a)]; });
+        const double sp = std::sin(phi), cp = std::cos(phi);
+        dvec3 g = drho * dvec3(cp, sp, 0.0) + dz * dvec3(0.0, 0.0, 1.0);
+        if (rho > 0.0)
+          g += dphi / rho * dvec3(-sp, cp, 0.0);
+        gradients[grid.cellIndex(i, j, k)] = g;
+      }
+  return gradients;
+}
+
+std::vector<dvec3> cellCentres(const SphericalGrid& grid)
+{
+  std::vector<dvec3> centres(grid.cellCount());
+  for (int k = 0; k < grid.azimuthalCells(); ++k)
+    for (int j = 0; j < grid.polarCells(); ++j)
+      for (int i = 0; i < grid.radialCells(); ++i)
+        centres[grid.cellIndex(i, j, k)] =
+          sphericalToCartesian(centreOf(grid.radius, i), centreOf(grid.polar, j), centreOf(grid.azimuth, k));
+  return centres;
+}
+
+std::vector<dvec3> cellCentres(const CylindricalGrid& grid)
+{
+  std::vector<dvec3> centres(grid.cellCount());
+  for (int k = 0; k < grid.heightCells(); ++k)
+    for (int j = 0; j < grid.azimuthalCells(); ++j)
+      for (int i = 0; i < grid.radialCells(); ++i)
+      {
+        const double rho = centreOf(grid.radius, i), phi = centreOf(grid.azimuth, j);
+        centres[grid.cellIndex(i, j, k)] = dvec3(rho * std::cos(phi), rho * std::sin(phi), centreOf(grid.height, k));
+      }
+  return centres;
+}
+
+void shadeCells(const std::vector<dvec3>& centres, const std::vector<dvec3>& gradients,
   const Material& material, const Lighting& lighting, const Camera& camera,
   std::vector<TransferSample>& cells)
 {
-  if (gradients.size() != grid.cellCount() || cells.size() != grid.cellCount())
-    throw std::invalid_argument("sightline::shadeCells: " + std::to_string(gradients.size()) + " gradients and " +
-      std::to_string(cells.size()) + " samples for " + std::to_string(grid.cellCount()) + " cells");
-  const int nr = grid.radialCells(), nt = grid.polarCells();
+  if (gradients.size() != cells.size() || centres.size() != cells.size())
+    throw std::invalid_argument("sightline::shadeCells: " + std::to_string(centres.size()) + " centres and " +
+      std::to_string(gradients.size()) + " gradients for " + std::to_string(cells.size()) + " cells");
   tbb::parallel_for(std::size_t(0), cells.size(),
     [&](std::size_t c)
     {
@@ -183,12 +311,8 @@ void shadeCells(const SphericalGrid& grid, const std::vector<dvec3>& gradients,
         cell.color *= material.ambient + material.diffuse;
         return;
       }
-      const int i = int(c % std::size_t(nr)), j = int(c / std::size_t(nr) % std::size_t(nt)),
-                k = int(c / (std::size_t(nr) * std::size_t(nt)));
-      const dvec3 centre = sphericalToCartesian(0.5 * (grid.radius[i] + grid.radius[i + 1]),
-        0.5 * (grid.polar[j] + grid.polar[j + 1]), 0.5 * (grid.azimuth[k] + grid.azimuth[k + 1]));
       // The viewer direction at the cell's projection, right for parallel and perspective views.
-      const dvec4 clip = camera.worldToClip() * dvec4(centre, 1.0);
+      const dvec4 clip = camera.worldToClip() * dvec4(centres[c], 1.0);
       const double px = (clip.x / clip.w * 0.5 + 0.5) * camera.width();
       const double py = (clip.y / clip.w * 0.5 + 0.5) * camera.height();
       const vec3 toViewer = -glm::normalize(camera.primaryRay(px, py).direction);

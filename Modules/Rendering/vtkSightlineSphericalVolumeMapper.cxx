@@ -42,7 +42,9 @@ public:
   std::unique_ptr<sightline::SphericalTraversal> Traversal;  // spherical input, or
   std::unique_ptr<sightline::CylindricalTraversal> Cylinder; // cylindrical input
   std::vector<sightline::dvec3> Centres;                     // for shading, on first use
-  std::vector<double> Values;
+  std::vector<double> Values;      // per cell (point data: the mean of its corners)
+  std::vector<double> PointValues; // point data in kernel order, empty for cell data
+  double PointRange[2] = { 0.0, 1.0 };
   std::vector<sightline::dvec3> Gradients; // computed on first use with shading
   vtkTimeStamp GridTime;
   double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
@@ -57,6 +59,7 @@ public:
   std::vector<double> FrameKey;
   std::vector<std::uint8_t> Rgba;
   SightlineWindowCompositor Compositor;
+  bool WarnedShadedPoints = false;
 };
 
 vtkStandardNewMacro(vtkSightlineSphericalVolumeMapper);
@@ -142,6 +145,35 @@ void SectionBounds(const sightline::CylindricalGrid& grid, double bounds[6])
   SectionBounds(equator, bounds);
   bounds[4] = grid.height.front();
   bounds[5] = grid.height.back();
+}
+
+// The property's colour and extinction at a value: opacity a per unit distance u is the
+// extinction -ln(1 - a) / u.
+sightline::TransferSample SampleTransfer(vtkVolumeProperty* property, double v)
+{
+  sightline::TransferSample sample;
+  if (std::isnan(v))
+  {
+    return sample;
+  }
+  const double a = property->GetScalarOpacity(0)->GetValue(v);
+  if (!(a > 0.0))
+  {
+    return sample;
+  }
+  const double unit = property->GetScalarOpacityUnitDistance(0);
+  sample.extinction = a >= 1.0 ? std::numeric_limits<double>::infinity() : -std::log1p(-a) / unit;
+  if (property->GetColorChannels(0) == 3)
+  {
+    double rgb[3];
+    property->GetRGBTransferFunction(0)->GetColor(v, rgb);
+    sample.color = sightline::vec3(rgb[0], rgb[1], rgb[2]);
+  }
+  else
+  {
+    sample.color = sightline::vec3(static_cast<float>(property->GetGrayTransferFunction(0)->GetValue(v)));
+  }
+  return sample;
 }
 } // namespace
 
@@ -265,6 +297,27 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
   // Both kernel grids order cells as the input does (x fastest, then y, then z), except that
   // latitude input reverses y.
   in.Values.assign(std::size_t(cells), 0.0);
+  in.PointValues.clear();
+  if (cellFlag == 0)
+  {
+    // Point data in kernel order (latitude input reverses y), and its range for the table.
+    in.PointValues.resize(std::size_t(expected));
+    in.PointRange[0] = std::numeric_limits<double>::infinity();
+    in.PointRange[1] = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k <= n2; ++k)
+      for (int j = 0; j <= n1; ++j)
+        for (int i = 0; i <= n0; ++i)
+        {
+          const int jInput = latitude ? n1 - j : j;
+          const double v = scalars->GetComponent(i + vtkIdType(n0 + 1) * (jInput + vtkIdType(n1 + 1) * k), 0);
+          in.PointValues[std::size_t(i) + std::size_t(n0 + 1) * (std::size_t(j) + std::size_t(n1 + 1) * k)] = v;
+          if (!std::isnan(v))
+          {
+            in.PointRange[0] = std::min(in.PointRange[0], v);
+            in.PointRange[1] = std::max(in.PointRange[1], v);
+          }
+        }
+  }
   vtkIdType nanCount = 0;
   for (int k = 0; k < n2; ++k)
   {
@@ -313,6 +366,20 @@ bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
   }
   in.GridTime.Modified();
   return true;
+}
+
+//------------------------------------------------------------------------------
+double vtkSightlineSphericalVolumeMapper::AutomaticSampleDistance()
+{
+  // Half the thinnest radial cell: layers are what radial grids resolve.
+  const std::vector<double>& radius =
+    this->Internals->Cylinder ? this->Internals->Cylinder->grid().radius : this->Internals->Traversal->grid().radius;
+  double thinnest = radius.back() - radius.front();
+  for (std::size_t i = 0; i + 1 < radius.size(); ++i)
+  {
+    thinnest = std::min(thinnest, radius[i + 1] - radius[i]);
+  }
+  return 0.5 * thinnest;
 }
 
 //------------------------------------------------------------------------------
@@ -367,38 +434,10 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
   if (in.Unshaded.size() != in.Values.size() || in.UnshadedPropertyTime != property->GetMTime() ||
     in.UnshadedGridTime != in.GridTime.GetMTime())
   {
-    vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
-    vtkColorTransferFunction* color =
-      property->GetColorChannels(0) == 3 ? property->GetRGBTransferFunction(0) : nullptr;
-    vtkPiecewiseFunction* gray =
-      property->GetColorChannels(0) == 1 ? property->GetGrayTransferFunction(0) : nullptr;
-    const double unit = property->GetScalarOpacityUnitDistance(0);
-    in.Unshaded.assign(in.Values.size(), sightline::TransferSample{});
+    in.Unshaded.resize(in.Values.size());
     for (std::size_t c = 0; c < in.Values.size(); ++c)
     {
-      const double v = in.Values[c];
-      if (std::isnan(v))
-      {
-        continue;
-      }
-      const double a = opacity->GetValue(v);
-      if (!(a > 0.0))
-      {
-        continue;
-      }
-      sightline::TransferSample& sample = in.Unshaded[c];
-      sample.extinction =
-        a >= 1.0 ? std::numeric_limits<double>::infinity() : -std::log1p(-a) / unit;
-      if (color)
-      {
-        double rgb[3];
-        color->GetColor(v, rgb);
-        sample.color = sightline::vec3(rgb[0], rgb[1], rgb[2]);
-      }
-      else
-      {
-        sample.color = sightline::vec3(static_cast<float>(gray ? gray->GetValue(v) : 1.0));
-      }
+      in.Unshaded[c] = SampleTransfer(property, in.Values[c]);
     }
     in.UnshadedPropertyTime = property->GetMTime();
     in.UnshadedGridTime = in.GridTime.GetMTime();
@@ -415,6 +454,12 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
     const std::vector<sightline::TransferSample>* cells = &in.Unshaded;
     if (property->GetShade(0))
     {
+      if (!in.PointValues.empty() && this->InterpolatePointData && !in.WarnedShadedPoints)
+      {
+        vtkWarningMacro(<< "Shading lights each cell once: point data is averaged per cell while "
+                           "shading is on.");
+        in.WarnedShadedPoints = true;
+      }
       if (in.Gradients.empty())
       {
         in.Gradients = in.Cylinder
@@ -448,9 +493,33 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
       this->UpdateProgress(fraction);
       return !this->AbortExecute;
     };
-    const sightline::SphericalVolumeStatistics stats = in.Cylinder
-      ? sightline::renderCylindricalVolume(*in.Cylinder, *cells, view, framebuffer, options)
-      : sightline::renderSphericalVolume(*in.Traversal, *cells, view, framebuffer, options);
+    sightline::SphericalVolumeStatistics stats;
+    if (!in.PointValues.empty() && this->InterpolatePointData && !property->GetShade(0))
+    {
+      // Point data: trilinear inside the cells, the transfer function tabulated as VTK's own
+      // mappers do (1024 entries over the data range), samples at most SampleDistance apart.
+      sightline::TransferTable table;
+      table.minimum = in.PointRange[0];
+      table.maximum = in.PointRange[1] > in.PointRange[0] ? in.PointRange[1] : in.PointRange[0] + 1.0;
+      table.entries.resize(1024);
+      for (std::size_t e = 0; e < table.entries.size(); ++e)
+      {
+        table.entries[e] = SampleTransfer(property,
+          table.minimum + (table.maximum - table.minimum) * double(e) / double(table.entries.size() - 1));
+        // A finite extinction for opacity 1, so that neighbouring entries interpolate.
+        table.entries[e].extinction = std::min(table.entries[e].extinction, 1e6 / property->GetScalarOpacityUnitDistance(0));
+      }
+      const double distance = this->SampleDistance > 0.0 ? this->SampleDistance : this->AutomaticSampleDistance();
+      stats = in.Cylinder
+        ? sightline::renderCylindricalVolumePoints(*in.Cylinder, in.PointValues, table, distance, view, framebuffer, options)
+        : sightline::renderSphericalVolumePoints(*in.Traversal, in.PointValues, table, distance, view, framebuffer, options);
+    }
+    else
+    {
+      stats = in.Cylinder
+        ? sightline::renderCylindricalVolume(*in.Cylinder, *cells, view, framebuffer, options)
+        : sightline::renderSphericalVolume(*in.Traversal, *cells, view, framebuffer, options);
+    }
     this->LastFrameSeconds = stats.seconds;
     this->LastCellsVisited = static_cast<vtkIdType>(stats.cellsVisited);
   }
@@ -560,6 +629,9 @@ void vtkSightlineSphericalVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PolarAngle: " << (this->PolarAngle == LATITUDE ? "latitude" : "colatitude")
      << "\n";
   os << indent << "MinimumTransmittance: " << this->MinimumTransmittance << "\n";
+  os << indent << "InterpolatePointData: " << (this->InterpolatePointData ? "on" : "off") << "\n";
+  os << indent << "SampleDistance: " << this->SampleDistance
+     << (this->SampleDistance > 0.0 ? "" : " (automatic)") << "\n";
   os << indent << "InteractiveSubsampling: " << this->InteractiveSubsampling << "\n";
   os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
   os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";

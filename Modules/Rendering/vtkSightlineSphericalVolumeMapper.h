@@ -19,8 +19,9 @@
  * - y: colatitude theta in [0, pi] from +z (default), or latitude in [-pi/2, pi/2];
  * - z: azimuth phi from +x towards +y, spanning at most 2 pi;
  * - angles in radians (default) or degrees;
- * - scalars: cell data is constant per cell (exact); point data is averaged over each cell's
- *   eight corners. The first component is used. ScalarMode / SelectScalarArray choose the array
+ * - scalars: cell data is constant per cell (composited exactly); point data is interpolated
+ *   trilinearly inside the cells and sampled (see InterpolatePointData, SampleDistance). The
+ *   first component is used. ScalarMode / SelectScalarArray choose the array
  *   as in other volume mappers.
  *
  * Rendering: emission-absorption through the vtkVolumeProperty's colour transfer function and
@@ -120,6 +121,27 @@ public:
 
   ///@{
   /**
+   * Point data is interpolated trilinearly in the grid's coordinates inside each cell and
+   * composited with samples at most SampleDistance apart along each cell segment (default on;
+   * off: each cell takes the mean of its corners and is composited exactly). With shading on,
+   * point data is averaged per cell (shading is per cell).
+   */
+  vtkSetMacro(InterpolatePointData, vtkTypeBool);
+  vtkGetMacro(InterpolatePointData, vtkTypeBool);
+  vtkBooleanMacro(InterpolatePointData, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * Largest distance between samples for interpolated point data, in the grid's units;
+   * 0 (default) means half the thinnest radial cell.
+   */
+  vtkSetClampMacro(SampleDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
    * Rays stop once the light they still let through falls below this (early ray
    * termination). Default 0.002 (one 8-bit level).
    */
@@ -177,6 +199,8 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   int CoordinateSystem = SPHERICAL;
+  vtkTypeBool InterpolatePointData = 1;
+  double SampleDistance = 0.0;
   int AngleUnits = RADIANS;
   int PolarAngle = COLATITUDE;
   double MinimumTransmittance = 0.002;
@@ -192,6 +216,7 @@ private:
   // Brings the kernel grid and cell values up to date with the input; false (after an error)
   // when there is nothing to draw.
   bool UpdateGrid();
+  double AutomaticSampleDistance();
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -59,6 +59,27 @@ SphericalVolumeStatistics renderCylindricalVolume(const CylindricalTraversal& tr
   const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
   const SphericalVolumeOptions& options = {});
 
+/// A transfer function sampled at evenly spaced values (as VTK's mappers tabulate theirs), read
+/// with linear interpolation and clamped to its range.
+struct TransferTable
+{
+  double minimum = 0.0, maximum = 1.0;
+  std::vector<TransferSample> entries; ///< at least one; entry i at minimum + i (max - min) / (n - 1)
+  TransferSample operator()(double value) const;
+};
+
+/// Point data: `pointValues` at the grid's points ((Nr + 1)(Ntheta + 1)(Nphi + 1), r fastest,
+/// then theta, then phi; for cylindrical grids rho, phi, z), interpolated trilinearly in the
+/// coordinates inside each cell, and composited by the midpoint rule with samples at most
+/// `sampleDistance` apart along each cell segment (so a sample never straddles a cell face).
+/// NaN values are empty. Throws std::invalid_argument for a wrong count or a distance <= 0.
+SphericalVolumeStatistics renderSphericalVolumePoints(const SphericalTraversal& traversal,
+  const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options = {});
+SphericalVolumeStatistics renderCylindricalVolumePoints(const CylindricalTraversal& traversal,
+  const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options = {});
+
 /// Gradient of a cell-constant field on a cylindrical grid, as sphericalCellGradients, in the
 /// local frame (e_rho, e_phi / rho, e_z).
 std::vector<dvec3> cylindricalCellGradients(const CylindricalGrid& grid, const std::vector<double>& values);

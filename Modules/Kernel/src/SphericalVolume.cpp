@@ -74,28 +74,28 @@ struct CylindricalCells
   }
 };
 
+// Empty space: the radius of the outermost shell with a visible cell (-1 when none is).
 template <class Cells>
-SphericalVolumeStatistics renderCells(const Cells& grid, const std::vector<TransferSample>& cells,
+double visibleRadiusOf(const Cells& grid, const std::vector<TransferSample>& cells)
+{
+  for (int i = int(grid.radii().size()) - 2; i >= 0; --i)
+    if (grid.visibleShell(cells, i))
+      return grid.radii()[std::size_t(i) + 1];
+  return -1.0;
+}
+
+/// Traces every pixel: rays clipped to the visible radius (nothing traced when it is < 0) and
+/// to the depth limit, traversed, and composited by `composite(origin, direction, segments,
+/// &first, &count)` into premultiplied RGBA.
+template <class Cells, class Composite>
+SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, const Composite& composite,
   const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options, const char* who)
 {
   const auto start = std::chrono::steady_clock::now();
-  if (cells.size() != grid.cellCount())
-    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(cells.size()) +
-      " cell samples for " + std::to_string(grid.cellCount()) + " cells");
   framebuffer.resize(camera.width(), camera.height());
   if (options.depthLimit && options.depthLimit->size() != framebuffer.pixelCount())
     throw std::invalid_argument(std::string("sightline::") + who + ": the depth limit has " +
       std::to_string(options.depthLimit->size()) + " values for " + std::to_string(framebuffer.pixelCount()) + " pixels");
-
-  // Empty space: rays are clipped to the outermost shell with a visible cell, and nothing is
-  // traced when no cell is visible.
-  double visibleRadius = -1.0;
-  for (int i = int(grid.radii().size()) - 2; i >= 0; --i)
-    if (grid.visibleShell(cells, i))
-    {
-      visibleRadius = grid.radii()[std::size_t(i) + 1];
-      break;
-    }
   SphericalVolumeStatistics stats;
   if (visibleRadius < 0.0)
   {
@@ -131,9 +131,7 @@ SphericalVolumeStatistics renderCells(const Cells& grid, const std::vector<Trans
               continue;
             grid.traversal.traverse(o, d, enter, leave, segments);
             double first = -1.0;
-            const vec4 rgba = compositeCells(
-              [&](const CellSegment& c) -> const TransferSample& { return cells[grid.index(c)]; }, segments, 1.0,
-              options.minimumTransmittance, &first, &count);
+            const vec4 rgba = composite(o, d, segments, &first, &count);
             if (!(rgba.a > 0.0f))
               continue;
             framebuffer.Color[i] = vec4(vec3(rgba) / rgba.a, rgba.a);
@@ -204,18 +202,176 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
   return renderSphericalVolume(traversal, cells, camera, framebuffer, options);
 }
 
+namespace
+{
+template <class Cells>
+SphericalVolumeStatistics renderCellData(const Cells& grid, const std::vector<TransferSample>& cells,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options, const char* who)
+{
+  if (cells.size() != grid.cellCount())
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(cells.size()) +
+      " cell samples for " + std::to_string(grid.cellCount()) + " cells");
+  return renderCells(grid, visibleRadiusOf(grid, cells),
+    [&](const dvec3&, const dvec3&, const std::vector<CellSegment>& segments, double* first, std::size_t* count)
+    {
+      return compositeCells([&](const CellSegment& c) -> const TransferSample& { return cells[grid.index(c)]; },
+        segments, 1.0, options.minimumTransmittance, first, count);
+    },
+    camera, framebuffer, options, who);
+}
+
+// Trilinear weights of a coordinate inside [b_i, b_{i+1}], clamped against rounding.
+double weightIn(const std::vector<double>& b, int i, double x)
+{
+  return std::clamp((x - b[std::size_t(i)]) / (b[std::size_t(i) + 1] - b[std::size_t(i)]), 0.0, 1.0);
+}
+
+double unwrapAzimuth(double phi, double phi0)
+{
+  return phi0 + std::fmod(std::fmod(phi - phi0, 2.0 * 3.14159265358979323846) + 2.0 * 3.14159265358979323846,
+                  2.0 * 3.14159265358979323846);
+}
+
+// Point data through a cell-segment traversal: `valueAt(segment, point)` interpolates the
+// point values inside the segment's cell.
+template <class Cells, class ValueAt>
+SphericalVolumeStatistics renderPointData(const Cells& grid, const ValueAt& valueAt,
+  const TransferTable& transfer, double sampleDistance, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options, const char* who)
+{
+  if (!(sampleDistance > 0.0))
+    throw std::invalid_argument(std::string("sightline::") + who + ": the sample distance must be positive, got " +
+      std::to_string(sampleDistance));
+  if (transfer.entries.empty())
+    throw std::invalid_argument(std::string("sightline::") + who + ": the transfer table is empty");
+  return renderCells(grid, grid.radii().back(),
+    [&](const dvec3& o, const dvec3& d, const std::vector<CellSegment>& segments, double* first, std::size_t* count)
+    {
+      dvec3 color(0.0);
+      double transmittance = 1.0;
+      *first = -1.0;
+      const double dl = glm::length(d);
+      for (const CellSegment& s : segments)
+      {
+        const double length = (s.t1 - s.t0) * dl;
+        const int samples = std::max(1, int(std::ceil(length / sampleDistance)));
+        const double step = (s.t1 - s.t0) / samples;
+        ++*count;
+        for (int k = 0; k < samples; ++k)
+        {
+          const double t = s.t0 + (k + 0.5) * step;
+          const double v = valueAt(s, o + t * d);
+          if (std::isnan(v))
+            continue;
+          const TransferSample sample = transfer(v);
+          if (!(sample.extinction > 0.0))
+            continue;
+          if (*first < 0.0)
+            *first = s.t0 + k * step;
+          const double absorbed = 1.0 - std::exp(-sample.extinction * step * dl);
+          color += transmittance * absorbed * dvec3(sample.color);
+          transmittance *= 1.0 - absorbed;
+        }
+        if (transmittance < options.minimumTransmittance)
+          break;
+      }
+      return vec4(vec3(color), float(1.0 - transmittance));
+    },
+    camera, framebuffer, options, who);
+}
+
+void checkPointCount(std::size_t values, std::size_t points, const char* who)
+{
+  if (values != points)
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(values) +
+      " point values for " + std::to_string(points) + " points");
+}
+} // namespace
+
+TransferSample TransferTable::operator()(double value) const
+{
+  const std::size_t n = entries.size();
+  if (n == 1 || !(maximum > minimum))
+    return entries.front();
+  const double x = std::clamp((value - minimum) / (maximum - minimum), 0.0, 1.0) * double(n - 1);
+  const std::size_t i = std::min(std::size_t(x), n - 2);
+  const double w = x - double(i);
+  TransferSample s;
+  s.color = glm::mix(entries[i].color, entries[i + 1].color, float(w));
+  s.extinction = (1.0 - w) * entries[i].extinction + w * entries[i + 1].extinction;
+  return s;
+}
+
 SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
   const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
   const SphericalVolumeOptions& options)
 {
-  return renderCells(SphericalCells{ traversal }, cells, camera, framebuffer, options, "renderSphericalVolume");
+  return renderCellData(SphericalCells{ traversal }, cells, camera, framebuffer, options, "renderSphericalVolume");
 }
 
 SphericalVolumeStatistics renderCylindricalVolume(const CylindricalTraversal& traversal,
   const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
   const SphericalVolumeOptions& options)
 {
-  return renderCells(CylindricalCells{ traversal }, cells, camera, framebuffer, options, "renderCylindricalVolume");
+  return renderCellData(CylindricalCells{ traversal }, cells, camera, framebuffer, options, "renderCylindricalVolume");
+}
+
+SphericalVolumeStatistics renderSphericalVolumePoints(const SphericalTraversal& traversal,
+  const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+{
+  const SphericalGrid& g = traversal.grid();
+  const std::size_t nr = g.radius.size(), nt = g.polar.size();
+  checkPointCount(pointValues.size(), nr * nt * g.azimuth.size(), "renderSphericalVolumePoints");
+  const double phi0 = g.azimuth.front();
+  auto valueAt = [&](const CellSegment& s, const dvec3& x)
+  {
+    const double r = glm::length(x);
+    const double theta = r > 0.0 ? std::acos(std::clamp(x.z / r, -1.0, 1.0)) : g.polar[std::size_t(s.theta)];
+    const double phi = unwrapAzimuth(std::atan2(x.y, x.x), phi0);
+    const double wr = weightIn(g.radius, s.r, r), wt = weightIn(g.polar, s.theta, theta),
+                 wp = weightIn(g.azimuth, s.phi, phi);
+    double v = 0.0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
+      const double w = (a ? wr : 1.0 - wr) * (b ? wt : 1.0 - wt) * (c ? wp : 1.0 - wp);
+      if (w > 0.0)
+        v += w * pointValues[std::size_t(s.r + a) + nr * (std::size_t(s.theta + b) + nt * std::size_t(s.phi + c))];
+    }
+    return v;
+  };
+  return renderPointData(SphericalCells{ traversal }, valueAt, transfer, sampleDistance, camera, framebuffer,
+    options, "renderSphericalVolumePoints");
+}
+
+SphericalVolumeStatistics renderCylindricalVolumePoints(const CylindricalTraversal& traversal,
+  const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+{
+  const CylindricalGrid& g = traversal.grid();
+  const std::size_t nr = g.radius.size(), np = g.azimuth.size();
+  checkPointCount(pointValues.size(), nr * np * g.height.size(), "renderCylindricalVolumePoints");
+  const double phi0 = g.azimuth.front();
+  auto valueAt = [&](const CellSegment& s, const dvec3& x)
+  {
+    const double rho = std::hypot(x.x, x.y);
+    const double phi = unwrapAzimuth(std::atan2(x.y, x.x), phi0);
+    // In the segments of a cylindrical traversal theta holds the height index.
+    const double wr = weightIn(g.radius, s.r, rho), wp = weightIn(g.azimuth, s.phi, phi),
+                 wz = weightIn(g.height, s.theta, x.z);
+    double v = 0.0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
+      const double w = (a ? wr : 1.0 - wr) * (b ? wp : 1.0 - wp) * (c ? wz : 1.0 - wz);
+      if (w > 0.0)
+        v += w * pointValues[std::size_t(s.r + a) + nr * (std::size_t(s.phi + b) + np * std::size_t(s.theta + c))];
+    }
+    return v;
+  };
+  return renderPointData(CylindricalCells{ traversal }, valueAt, transfer, sampleDistance, camera, framebuffer,
+    options, "renderCylindricalVolumePoints");
 }
 
 std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values)

@@ -5,8 +5,8 @@
 #pragma once
 
 #include "sightline/Camera.h"
-#include "sightline/Framebuffer.h"
 #include "sightline/CylindricalGrid.h"
+#include "sightline/Framebuffer.h"
 #include "sightline/Shading.h"
 #include "sightline/SphericalGrid.h"
 
@@ -48,11 +48,6 @@ SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traver
   const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
   const SphericalVolumeOptions& options = {});
 
-/// Cartesian gradient of a cell-constant field at each cell centre, by central differences
-/// between neighbouring cells in r, theta and phi (one-sided at the section's edges, across
-/// phi = 0 on a full circle), in the local frame (e_r, e_theta / r, e_phi / (r sin theta)).
-std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values);
-
 /// The same for cylindrical grids (rho, phi, z; CylindricalGrid.h): rays are clipped to the
 /// cylinder around the outermost shell with a visible cell.
 SphericalVolumeStatistics renderCylindricalVolume(const CylindricalTraversal& traversal,
@@ -79,6 +74,11 @@ SphericalVolumeStatistics renderSphericalVolumePoints(const SphericalTraversal& 
 SphericalVolumeStatistics renderCylindricalVolumePoints(const CylindricalTraversal& traversal,
   const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
   const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options = {});
+
+/// Cartesian gradient of a cell-constant field at each cell centre, by central differences
+/// between neighbouring cells in r, theta and phi (one-sided at the section's edges, across
+/// phi = 0 on a full circle), in the local frame (e_r, e_theta / r, e_phi / (r sin theta)).
+std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values);
 
 /// Gradient of a cell-constant field on a cylindrical grid, as sphericalCellGradients, in the
 /// local frame (e_rho, e_phi / rho, e_z).

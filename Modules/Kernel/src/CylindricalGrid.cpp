@@ -114,7 +114,7 @@ void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin,
   const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, azimuthList);
 
   const int first[3] = { radialStart, heightStart, azimuthStart };
-  const std::vector<Transition>* lists[3] = { &radial, &heights, &azimuthList };
+  std::vector<Transition>* lists[3] = { &radial, &heights, &azimuthList };
   const int counts[3] = { Grid.radialCells(), nz, Grid.azimuthalCells() };
   traversal::mergeTransitions(first, lists, counts, tmin, tmax, out);
 }

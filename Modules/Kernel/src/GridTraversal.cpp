@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -170,35 +171,29 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
   return azimuthStart;
 }
 
-void mergeTransitions(const int first[3], const std::vector<Transition>* lists[3],
-  const int counts[3], double tmin, double tmax, std::vector<CellSegment>& out)
+void mergeTransitions(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
+  double tmin, double tmax, std::vector<CellSegment>& out)
 {
+  // A sentinel at +infinity ends each list, so the loop needs no bounds checks.
+  constexpr double kEnd = std::numeric_limits<double>::infinity();
+  for (int list = 0; list < 3; ++list)
+    lists[list]->push_back({ kEnd, 0 });
+  const Transition* next[3] = { lists[0]->data(), lists[1]->data(), lists[2]->data() };
   int index[3] = { first[0], first[1], first[2] };
-  std::size_t next[3] = { 0, 0, 0 };
   double t0 = tmin;
-  auto emit = [&](double t1)
-  {
-    if (t1 > t0 && index[0] >= 0 && index[0] < counts[0] && index[1] >= 0 && index[1] < counts[1] &&
-      index[2] >= 0 && index[2] < counts[2])
-      out.push_back({ index[0], index[1], index[2], t0, t1 });
-    t0 = std::max(t0, t1);
-  };
   for (;;)
   {
-    int which = -1;
-    double t = 1e300;
-    for (int list = 0; list < 3; ++list)
-      if (next[list] < lists[list]->size() && (*lists[list])[next[list]].t < t)
-      {
-        t = (*lists[list])[next[list]].t;
-        which = list;
-      }
-    if (which < 0)
+    const int which = next[0]->t <= next[1]->t ? (next[0]->t <= next[2]->t ? 0 : 2) : (next[1]->t <= next[2]->t ? 1 : 2);
+    const double t1 = next[which]->t == kEnd ? tmax : next[which]->t;
+    if (t1 > t0 && unsigned(index[0]) < unsigned(counts[0]) && unsigned(index[1]) < unsigned(counts[1]) &&
+      unsigned(index[2]) < unsigned(counts[2]))
+      out.push_back({ index[0], index[1], index[2], t0, t1 });
+    t0 = std::max(t0, t1);
+    if (next[which]->t == kEnd)
       break;
-    emit(t);
-    index[which] = (*lists[which])[next[which]++].index;
+    index[which] = next[which]->index;
+    ++next[which];
   }
-  emit(tmax);
 }
 } // namespace traversal
 } // namespace sightline

@@ -61,8 +61,9 @@ private:
 };
 
 /// Merges three ascending transition lists into the segments of cells whose three indices are
-/// all inside [0, counts[i]), emitted as CellSegment{ index 0, index 1, index 2 }.
-void mergeTransitions(const int first[3], const std::vector<Transition>* lists[3],
-  const int counts[3], double tmin, double tmax, std::vector<CellSegment>& out);
+/// all inside [0, counts[i]), emitted as CellSegment{ index 0, index 1, index 2 }. Appends a
+/// sentinel to each list.
+void mergeTransitions(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
+  double tmin, double tmax, std::vector<CellSegment>& out);
 } // namespace traversal
 } // namespace sightline

@@ -186,7 +186,7 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
 
   // Merge the three ascending lists, emitting the pieces inside the section.
   const int first[3] = { radialStart, polarIndex(start), azimuthStart };
-  const std::vector<Transition>* lists[3] = { &radial, &polarList, &azimuthList };
+  std::vector<Transition>* lists[3] = { &radial, &polarList, &azimuthList };
   const int counts[3] = { Grid.radialCells(), Grid.polarCells(), Grid.azimuthalCells() };
   traversal::mergeTransitions(first, lists, counts, tmin, tmax, out);
 }

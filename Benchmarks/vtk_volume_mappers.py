@@ -186,6 +186,9 @@ def main():
     parser.add_argument("--max-voxels", type=int, default=2_100_000)
     parser.add_argument("--csv", default="results-spherical-vtk-mappers.csv")
     parser.add_argument("--plot")
+    parser.add_argument("--check", action="store_true",
+                        help="smoke test: fail unless Sightline's aligned images are exact to 8-bit "
+                        "rounding and VTK's mappers are less accurate")
     args = parser.parse_args()
     exact = exact_image(args.width)
     with open("/proc/loadavg") as stream:
@@ -268,6 +271,17 @@ def main():
     print("wrote", args.csv)
     if args.plot:
         plot(rows, args.plot)
+    if args.check:
+        aligned = {(r["method"], r["N"]): r["rms_error"] for r in rows if r["grid"] == "aligned"}
+        for n in args.sizes:
+            ours = aligned[("sightline", n)]
+            if not ours < 1.0:
+                raise SystemExit(f"N = {n}: Sightline's aligned image is off by RMS {ours}")
+            for method in ("fixed-point", "unstructured"):
+                theirs = aligned.get((method, n), float("nan"))
+                if not math.isnan(theirs) and not theirs > ours:
+                    raise SystemExit(f"N = {n}: {method} ({theirs}) is not less accurate than Sightline")
+        print("check: OK")
 
 
 def plot(rows, output):

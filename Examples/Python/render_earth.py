@@ -19,7 +19,9 @@ through vtkSightlineImageRenderer, no OpenGL: the inner core is an exact Sightli
 both, the graticule lines are OpenGL lines and only in the window).
 
 Usage: /usr/bin/python3 render_earth.py [--output DIR] [--size W H]
-         [--resolution NR NTHETA NPHI] [--perturbation A] [--shade]
+         [--resolution NR NTHETA NPHI] [--perturbation A] [--shade] [--interactive]
+(--interactive opens the window on a display afterwards; the mapper traces every second pixel
+while the view is dragged.)
 """
 import argparse
 import math
@@ -92,6 +94,8 @@ def main():
                         help="cells along r, theta, phi (the whole sphere's share for phi)")
     parser.add_argument("--perturbation", type=float, default=0.05)
     parser.add_argument("--shade", action="store_true", help="gradient shading of the cells")
+    parser.add_argument("--interactive", action="store_true",
+                        help="then open the window and let the view be rotated (needs a display)")
     args = parser.parse_args()
     os.makedirs(args.output, exist_ok=True)
 
@@ -193,6 +197,13 @@ def main():
     writer.SetInputConnection(image.GetOutputPort())
     writer.Write()
     print("wrote", os.path.join(args.output, "earth_window.png"), "and earth_gl_free.png")
+    if args.interactive:
+        window.SetOffScreenRendering(0)
+        interactor = vtk.vtkRenderWindowInteractor()
+        interactor.SetRenderWindow(window)
+        interactor.SetInteractorStyle(vtk.vtkInteractorStyleTrackballCamera())
+        window.Render()
+        interactor.Start()
 
 
 if __name__ == "__main__":

@@ -255,10 +255,17 @@ double radiusAntiderivative(double u, double a, double p2)
 }
 } // namespace
 
-double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double>& nodeValues,
-  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
+namespace
 {
-  checkNodeCount(grid, nodeValues, "projectLinearInRadius");
+// Line integral of node values interpolated linearly in q(r) inside each cell (q = r or r^2):
+// f = f0 + slope (q - q0), integrated with the exact integral of q along the segment, given in
+// the closest-approach parameter u by `integralOfQ(u0, u1)`.
+template <class Q, class IntegralOfQ>
+double projectLinearIn(const SphericalGrid& grid, const std::vector<double>& nodeValues,
+  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction,
+  const char* who, const Q& q, const IntegralOfQ& integralOfQ)
+{
+  checkNodeCount(grid, nodeValues, who);
   const ClosestApproach c(origin, direction);
   const std::size_t nodes = grid.radius.size();
   double sum = 0.0;
@@ -266,34 +273,32 @@ double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double
   {
     const std::size_t column = nodes * (std::size_t(s.theta) + std::size_t(grid.polarCells()) * std::size_t(s.phi));
     const double f0 = nodeValues[column + s.r], f1 = nodeValues[column + s.r + 1];
-    const double r0 = grid.radius[s.r], r1 = grid.radius[s.r + 1];
-    const double slope = (f1 - f0) / (r1 - r0);
+    const double q0 = q(grid.radius[s.r]), q1 = q(grid.radius[s.r + 1]);
+    const double slope = (f1 - f0) / (q1 - q0);
     const double u0 = s.t0 - c.t, u1 = s.t1 - c.t;
-    const double integralOfR = radiusAntiderivative(u1, c.a, c.p2) - radiusAntiderivative(u0, c.a, c.p2);
-    sum += (f0 - slope * r0) * (u1 - u0) + slope * integralOfR;
+    sum += (f0 - slope * q0) * (u1 - u0) + slope * integralOfQ(c, u0, u1);
   }
   return sum * std::sqrt(c.a);
+}
+} // namespace
+
+double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double>& nodeValues,
+  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
+{
+  return projectLinearIn(grid, nodeValues, segments, origin, direction, "projectLinearInRadius",
+    [](double r) { return r; },
+    [](const ClosestApproach& c, double u0, double u1)
+    { return radiusAntiderivative(u1, c.a, c.p2) - radiusAntiderivative(u0, c.a, c.p2); });
 }
 
 double projectLinearInRadiusSquared(const SphericalGrid& grid, const std::vector<double>& nodeValues,
   const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
 {
-  checkNodeCount(grid, nodeValues, "projectLinearInRadiusSquared");
-  const ClosestApproach c(origin, direction);
-  const std::size_t nodes = grid.radius.size();
-  double sum = 0.0;
-  for (const CellSegment& s : segments)
-  {
-    const std::size_t column = nodes * (std::size_t(s.theta) + std::size_t(grid.polarCells()) * std::size_t(s.phi));
-    const double f0 = nodeValues[column + s.r], f1 = nodeValues[column + s.r + 1];
-    const double q0 = grid.radius[s.r] * grid.radius[s.r], q1 = grid.radius[s.r + 1] * grid.radius[s.r + 1];
-    const double slope = (f1 - f0) / (q1 - q0);
-    const double u0 = s.t0 - c.t, u1 = s.t1 - c.t;
-    // r^2 = p^2 + a u^2 integrates to p^2 (u1 - u0) + a (u1^3 - u0^3) / 3.
-    const double integralOfR2 = c.p2 * (u1 - u0) + c.a * (u1 * u1 * u1 - u0 * u0 * u0) / 3.0;
-    sum += (f0 - slope * q0) * (u1 - u0) + slope * integralOfR2;
-  }
-  return sum * std::sqrt(c.a);
+  // r^2 = p^2 + a u^2 integrates to p^2 (u1 - u0) + a (u1^3 - u0^3) / 3.
+  return projectLinearIn(grid, nodeValues, segments, origin, direction, "projectLinearInRadiusSquared",
+    [](double r) { return r * r; },
+    [](const ClosestApproach& c, double u0, double u1)
+    { return c.p2 * (u1 - u0) + c.a * (u1 * u1 * u1 - u0 * u0 * u0) / 3.0; });
 }
 
 std::vector<double> sampleRadialNodes(

@@ -23,8 +23,6 @@
 #include "sightline/Renderer.h"
 
 #include <algorithm>
-#include <cstdint>
-#include <cstring>
 #include <exception>
 #include <vector>
 
@@ -383,8 +381,8 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   }
 
   // Trace fewer rays while the user drags; the still frame afterwards has every pixel.
-  const int step =
-    window->GetDesiredUpdateRate() > this->InteractiveUpdateRate ? this->InteractiveSubsampling : 1;
+  const int step = SightlineWindowCompositor::TraceStep(
+    window, this->InteractiveUpdateRate, this->InteractiveSubsampling);
   const int traceWidth = (width + step - 1) / step;
   const int traceHeight = (height + step - 1) / step;
 
@@ -405,33 +403,14 @@ void vtkSightlineMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   }
 
   // Everything the frame depends on; an unchanged key reuses the last image.
-  std::vector<double> key;
-  vtkMatrix4x4* projection =
-    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
-  key.insert(key.end(), &projection->Element[0][0], &projection->Element[0][0] + 16);
-  vtkMatrix4x4* model = actor->GetMatrix();
-  key.insert(key.end(), &model->Element[0][0], &model->Element[0][0] + 16);
-  key.push_back(traceWidth);
-  key.push_back(traceHeight);
+  std::vector<double> key =
+    SightlineWindowCompositor::ViewKey(renderer, actor->GetMatrix(), traceWidth, traceHeight);
   key.push_back(static_cast<double>(in.BuildTime.GetMTime()));
   key.push_back(static_cast<double>(actor->GetProperty()->GetMTime()));
-  for (const auto& light : MakeLighting(renderer->GetLights(), camera).lights)
-  {
-    key.insert(key.end(), { light.direction.x, light.direction.y, light.direction.z, light.color.r,
-                            light.color.g, light.color.b, light.intensity });
-  }
-
   if (translucent)
   {
-    // What is behind changes the image: a hash of the depth it stops at (FNV-1a).
-    std::uint64_t hash = 1469598103934665603ull;
-    for (float d : depthLimit)
-    {
-      std::uint32_t bits;
-      std::memcpy(&bits, &d, sizeof(bits));
-      hash = (hash ^ bits) * 1099511628211ull;
-    }
-    key.push_back(static_cast<double>(hash >> 11));
+    // What is behind changes the image.
+    key.push_back(SightlineWindowCompositor::DepthKey(depthLimit));
     key.push_back(1.0);
   }
 

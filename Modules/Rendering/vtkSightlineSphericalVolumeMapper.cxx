@@ -31,7 +31,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <exception>
 #include <limits>
 
@@ -555,8 +554,8 @@ void vtkSightlineSphericalVolumeMapper::Render(vtkRenderer* renderer, vtkVolume*
     return;
   }
 
-  const int step =
-    window->GetDesiredUpdateRate() > this->InteractiveUpdateRate ? this->InteractiveSubsampling : 1;
+  const int step = SightlineWindowCompositor::TraceStep(
+    window, this->InteractiveUpdateRate, this->InteractiveSubsampling);
   const int traceWidth = (width + step - 1) / step;
   const int traceHeight = (height + step - 1) / step;
 
@@ -567,30 +566,12 @@ void vtkSightlineSphericalVolumeMapper::Render(vtkRenderer* renderer, vtkVolume*
     SightlineWindowCompositor::ReadDepth(window, x0, y0, width, height, step, traceWidth, traceHeight);
 
   // Everything the frame depends on; an unchanged key reuses the last image.
-  std::vector<double> key;
-  vtkMatrix4x4* projection =
-    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
-  key.insert(key.end(), &projection->Element[0][0], &projection->Element[0][0] + 16);
-  vtkMatrix4x4* model = volume->GetMatrix();
-  key.insert(key.end(), &model->Element[0][0], &model->Element[0][0] + 16);
-  key.push_back(traceWidth);
-  key.push_back(traceHeight);
+  std::vector<double> key =
+    SightlineWindowCompositor::ViewKey(renderer, volume->GetMatrix(), traceWidth, traceHeight);
   key.push_back(static_cast<double>(in.GridTime.GetMTime()));
   key.push_back(static_cast<double>(volume->GetProperty()->GetMTime()));
   key.push_back(static_cast<double>(this->GetMTime()));
-  for (const auto& light : vtkSightlineMapper::MakeLighting(renderer->GetLights(), camera).lights)
-  {
-    key.insert(key.end(), { light.direction.x, light.direction.y, light.direction.z, light.color.r,
-                            light.color.g, light.color.b, light.intensity });
-  }
-  std::uint64_t hash = 1469598103934665603ull; // FNV-1a of the depth the rays stop at
-  for (float d : depthLimit)
-  {
-    std::uint32_t bits;
-    std::memcpy(&bits, &d, sizeof(bits));
-    hash = (hash ^ bits) * 1099511628211ull;
-  }
-  key.push_back(static_cast<double>(hash >> 11));
+  key.push_back(SightlineWindowCompositor::DepthKey(depthLimit)); // what is behind
 
   bool changed = false;
   if (key != in.FrameKey)

@@ -11,7 +11,7 @@
 #include "vtkVersion.h"
 #include "vtkWindowToImageFilter.h"
 
-#include "sightline/Framebuffer.h"
+#include "sightline/core/Framebuffer.h"
 
 #include <embree3/rtcore_config.h>
 #include <tbb/task_arena.h>

@@ -1,6 +1,6 @@
 #include "GlyphSceneSupport.h"
 
-#include "sightline/Renderer.h"
+#include "sightline/core/Renderer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -16,7 +16,7 @@ using sightline::vec3;
 
 namespace
 {
-constexpr double kPi = 3.14159265358979323846;
+using sightline::kPi;
 } // namespace
 
 View makeGlyphView(const std::vector<vec3>& centers, double glyphRadius, int width, int height)

@@ -5,11 +5,11 @@
 
 #include "BenchmarkSupport.h"
 
-#include "sightline/Camera.h"
-#include "sightline/EmbreeScene.h"
-#include "sightline/Framebuffer.h"
-#include "sightline/Renderer.h"
-#include "sightline/Shading.h"
+#include "sightline/core/Camera.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/core/Renderer.h"
+#include "sightline/core/Shading.h"
 
 #include <functional>
 #include <memory>

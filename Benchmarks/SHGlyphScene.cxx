@@ -22,16 +22,16 @@
 #include "GlyphSceneSupport.h"
 #include "SceneRegistry.h"
 
-#include "sightline/Camera.h"
-#include "sightline/EmbreeScene.h"
-#include "sightline/Framebuffer.h"
-#include "sightline/Renderer.h"
-#include "sightline/SHGlyph.h"
-#include "sightline/SHGlyphSet.h"
-#include "sightline/SHGlyphTessellation.h"
-#include "sightline/Shading.h"
-#include "sightline/SphericalHarmonics.h"
-#include "sightline/TriangleMesh.h"
+#include "sightline/core/Camera.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/core/Renderer.h"
+#include "sightline/glyphs/SHGlyph.h"
+#include "sightline/glyphs/SHGlyphSet.h"
+#include "sightline/baselines/SHGlyphTessellation.h"
+#include "sightline/core/Shading.h"
+#include "sightline/math/SphericalHarmonics.h"
+#include "sightline/baselines/TriangleMesh.h"
 
 #include <tbb/parallel_for.h>
 
@@ -59,7 +59,7 @@ using sightline::SHGlyphOptions;
 using sightline::SHGlyphSet;
 using sightline::vec3;
 
-constexpr double kPi = 3.14159265358979323846;
+using sightline::kPi;
 /// Glyphs are scaled so that max |F| is this (spacing 1): they never touch (DIPY's odf_slicer
 /// normalises each glyph the same way, with 0.5).
 constexpr double kGlyphRadius = 0.45;

@@ -44,9 +44,9 @@
 #include "vtkSightlineSHGlyphMapper.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "sightline/EmbreeScene.h"
-#include "sightline/Math.h"
-#include "sightline/SphericalHarmonics.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/math/Math.h"
+#include "sightline/math/SphericalHarmonics.h"
 
 #include <malloc.h> // malloc_trim (glibc)
 #include <tbb/parallel_for.h>

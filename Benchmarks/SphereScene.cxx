@@ -27,11 +27,11 @@
 #include "vtkSphereSource.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "sightline/Camera.h"
-#include "sightline/EmbreeScene.h"
-#include "sightline/Framebuffer.h"
-#include "sightline/Shading.h"
-#include "sightline/SphereSet.h"
+#include "sightline/core/Camera.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/core/Shading.h"
+#include "sightline/spheres/SphereSet.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>

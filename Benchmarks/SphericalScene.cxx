@@ -26,8 +26,8 @@
 // Run with a small image: sightline-benchmark --scene spherical-step --width 256 --height 256.
 #include "SceneRegistry.h"
 
-#include "sightline/SphericalFields.h"
-#include "sightline/SphericalGrid.h"
+#include "sightline/volumes/SphericalFields.h"
+#include "sightline/volumes/SphericalGrid.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -44,7 +44,7 @@ namespace
 using sightline::dvec3;
 using sightline::SphericalGrid;
 
-constexpr double kPi = 3.14159265358979323846;
+using sightline::kPi;
 
 enum class Field
 {

@@ -19,10 +19,10 @@
 #include "GlyphSceneSupport.h"
 #include "SceneRegistry.h"
 
-#include "sightline/SHGlyph.h"
-#include "sightline/SHGlyphSet.h"
-#include "sightline/SymmetricTensor.h"
-#include "sightline/TensorGlyph.h"
+#include "sightline/glyphs/SHGlyph.h"
+#include "sightline/glyphs/SHGlyphSet.h"
+#include "sightline/math/SymmetricTensor.h"
+#include "sightline/glyphs/TensorGlyph.h"
 
 #include <algorithm>
 #include <cmath>

@@ -21,9 +21,9 @@
 #include "GlyphSceneSupport.h"
 #include "SceneRegistry.h"
 
-#include "sightline/TriangleMesh.h"
-#include "sightline/TubeAssembly.h"
-#include "sightline/TubeSet.h"
+#include "sightline/baselines/TriangleMesh.h"
+#include "sightline/baselines/TubeAssembly.h"
+#include "sightline/tubes/TubeSet.h"
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"

@@ -14,7 +14,7 @@
 #include "vtkShaderProgram.h"
 #include "vtk_glew.h"
 
-#include "sightline/Shading.h"
+#include "sightline/core/Shading.h"
 
 #include <algorithm>
 #include <cstring>

@@ -19,7 +19,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "sightline/Framebuffer.h"
+#include "sightline/core/Framebuffer.h"
 
 #include <algorithm>
 #include <cstring>

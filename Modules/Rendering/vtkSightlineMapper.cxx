@@ -18,9 +18,9 @@
 #include "vtkScalarsToColors.h"
 #include "vtkTimerLog.h"
 
-#include "sightline/EmbreeScene.h"
-#include "sightline/Framebuffer.h"
-#include "sightline/Renderer.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/core/Renderer.h"
 
 #include <algorithm>
 #include <exception>

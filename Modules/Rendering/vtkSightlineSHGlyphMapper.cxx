@@ -12,11 +12,11 @@
 #include "vtkScalarsToColors.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "sightline/EmbreeScene.h"
-#include "sightline/Renderer.h"
-#include "sightline/SHGlyph.h"
-#include "sightline/SHGlyphSet.h"
-#include "sightline/SHRotation.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/core/Renderer.h"
+#include "sightline/glyphs/SHGlyph.h"
+#include "sightline/glyphs/SHGlyphSet.h"
+#include "sightline/math/SHRotation.h"
 
 #include <tbb/parallel_for.h>
 

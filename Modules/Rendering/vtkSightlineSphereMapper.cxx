@@ -8,7 +8,7 @@
 #include "vtkPoints.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "sightline/SphereSet.h"
+#include "sightline/spheres/SphereSet.h"
 
 #include <cmath>
 #include <vector>

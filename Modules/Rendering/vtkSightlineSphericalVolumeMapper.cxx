@@ -21,10 +21,10 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
-#include "sightline/CylindricalGrid.h"
-#include "sightline/Framebuffer.h"
-#include "sightline/SphericalFields.h"
-#include "sightline/SphericalVolume.h"
+#include "sightline/volumes/CylindricalGrid.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/volumes/SphericalFields.h"
+#include "sightline/volumes/SphericalVolume.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
 

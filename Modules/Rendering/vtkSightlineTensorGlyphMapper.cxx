@@ -8,9 +8,9 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 
-#include "sightline/EllipsoidSet.h"
-#include "sightline/SHGlyphSet.h"
-#include "sightline/SymmetricTensor.h"
+#include "sightline/glyphs/EllipsoidSet.h"
+#include "sightline/glyphs/SHGlyphSet.h"
+#include "sightline/math/SymmetricTensor.h"
 
 #include <tbb/parallel_for.h>
 

@@ -12,7 +12,7 @@
 #include "vtkPolyData.h"
 #include "vtkUnsignedCharArray.h"
 
-#include "sightline/TubeSet.h"
+#include "sightline/tubes/TubeSet.h"
 
 #include <algorithm>
 #include <cmath>

@@ -10,8 +10,8 @@
 #include "vtkRectilinearGrid.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
-#include "sightline/EarthModel.h"
-#include "sightline/SphericalFields.h"
+#include "sightline/volumes/EarthModel.h"
+#include "sightline/volumes/SphericalFields.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,9 +3,9 @@
 // unprojection, and a long double ray-sphere solution. Nothing here calls the kernel's maths.
 #pragma once
 
-#include "sightline/Camera.h"
-#include "sightline/EmbreeScene.h"
-#include "sightline/SphereSet.h"
+#include "sightline/core/Camera.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/spheres/SphereSet.h"
 
 #include <array>
 #include <cmath>

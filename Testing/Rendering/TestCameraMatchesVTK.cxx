@@ -5,7 +5,7 @@
 #include "vtkNew.h"
 #include "vtkSightlineMapper.h"
 
-#include "sightline/Camera.h"
+#include "sightline/core/Camera.h"
 
 #include <gtest/gtest.h>
 

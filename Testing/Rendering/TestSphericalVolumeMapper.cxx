@@ -24,10 +24,10 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
-#include "sightline/EarthModel.h"
-#include "sightline/Framebuffer.h"
-#include "sightline/SphericalFields.h"
-#include "sightline/SphericalVolume.h"
+#include "sightline/volumes/EarthModel.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/volumes/SphericalFields.h"
+#include "sightline/volumes/SphericalVolume.h"
 
 #include <gtest/gtest.h>
 
@@ -37,7 +37,7 @@ using namespace sightline_test;
 
 namespace
 {
-constexpr double kPi = 3.14159265358979323846;
+using sightline::kPi;
 
 // A volume of the source's output with a colour ramp and opacity per unit distance.
 struct VolumeScene

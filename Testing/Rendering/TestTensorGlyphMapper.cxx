@@ -24,7 +24,7 @@
 #include "vtkSphereSource.h"
 #include "vtkTensorGlyph.h"
 
-#include "sightline/SymmetricTensor.h"
+#include "sightline/math/SymmetricTensor.h"
 
 #include <gtest/gtest.h>
 

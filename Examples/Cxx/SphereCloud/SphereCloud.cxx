@@ -27,8 +27,8 @@
 #include "vtkWindowToImageFilter.h"
 #include "vtkXMLPolyDataReader.h"
 
-#include "sightline/Framebuffer.h"
-#include "sightline/ImageIO.h"
+#include "sightline/core/Framebuffer.h"
+#include "sightline/core/ImageIO.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -1,0 +1,189 @@
+#include "sightline/core/EmbreeScene.h"
+
+#include <chrono>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+namespace sightline
+{
+namespace
+{
+const char* errorName(RTCError error)
+{
+  switch (error)
+  {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+    default: return "unknown error";
+  }
+}
+} // namespace
+
+EmbreeDevice::EmbreeDevice()
+{
+  Device = rtcNewDevice(nullptr);
+  if (!Device)
+    throw std::runtime_error(std::string("sightline: could not create an Embree device: ") +
+      errorName(rtcGetDeviceError(nullptr)));
+  rtcSetDeviceMemoryMonitorFunction(Device, &EmbreeDevice::memoryMonitor, this);
+}
+
+EmbreeDevice::~EmbreeDevice()
+{
+  rtcReleaseDevice(Device);
+}
+
+bool EmbreeDevice::memoryMonitor(void* user, std::ptrdiff_t bytes, bool /*post*/)
+{
+  static_cast<EmbreeDevice*>(user)->Allocated += bytes;
+  return true;
+}
+
+void EmbreeDevice::throwOnError(const char* what) const
+{
+  const RTCError error = rtcGetDeviceError(Device);
+  if (error != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("sightline: Embree failed in ") + what + ": " +
+      errorName(error));
+}
+
+std::shared_ptr<EmbreeDevice> EmbreeDevice::shared()
+{
+  static std::mutex mutex;
+  static std::weak_ptr<EmbreeDevice> instance;
+  std::lock_guard<std::mutex> lock(mutex);
+  std::shared_ptr<EmbreeDevice> device = instance.lock();
+  if (!device)
+  {
+    device = std::make_shared<EmbreeDevice>();
+    instance = device;
+  }
+  return device;
+}
+
+EmbreeScene::EmbreeScene(std::shared_ptr<EmbreeDevice> device)
+  : Device(std::move(device))
+{
+  Scene = rtcNewScene(Device->handle());
+  Device->throwOnError("rtcNewScene");
+  rtcSetSceneBuildQuality(Scene, RTC_BUILD_QUALITY_HIGH);
+}
+
+EmbreeScene::~EmbreeScene()
+{
+  rtcReleaseScene(Scene);
+}
+
+unsigned EmbreeScene::add(std::shared_ptr<const Geometry> geometry)
+{
+  if (!geometry)
+    throw std::invalid_argument("sightline::EmbreeScene::add: null geometry");
+  if (Committed)
+    throw std::logic_error("sightline::EmbreeScene::add: the scene is already committed");
+  RTCGeometry handle = geometry->createEmbreeGeometry(Device->handle());
+  Device->throwOnError("creating a geometry");
+  const unsigned id = rtcAttachGeometry(Scene, handle);
+  rtcReleaseGeometry(handle);
+  Device->throwOnError("rtcAttachGeometry");
+  if (id != Geometries.size())
+    throw std::logic_error("sightline::EmbreeScene: unexpected geometry id");
+  Geometries.push_back(std::move(geometry));
+  return id;
+}
+
+void EmbreeScene::commit()
+{
+  const std::int64_t before = Device->allocatedBytes();
+  const auto start = std::chrono::steady_clock::now();
+  rtcCommitScene(Scene);
+  BuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  Device->throwOnError("rtcCommitScene");
+  BvhBytes = Device->allocatedBytes() - before;
+  Committed = true;
+}
+
+Box3 EmbreeScene::bounds() const
+{
+  RTCBounds b;
+  rtcGetSceneBounds(Scene, &b);
+  Box3 box;
+  if (Geometries.empty())
+    return box;
+  box.lower = vec3(b.lower_x, b.lower_y, b.lower_z);
+  box.upper = vec3(b.upper_x, b.upper_y, b.upper_z);
+  return box;
+}
+
+std::size_t EmbreeScene::geometryBytes() const
+{
+  std::size_t bytes = 0;
+  for (const auto& g : Geometries)
+    bytes += g->memoryBytes();
+  return bytes;
+}
+
+RTCRayHit makeRayHit(const Ray& ray)
+{
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = ray.tnear;
+  rh.ray.tfar = ray.tfar;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = ~0u;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+bool EmbreeScene::intersect(RTCRayHit& rayhit, bool coherent) const
+{
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  if (coherent)
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1(Scene, &context.embree, &rayhit);
+  return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
+bool EmbreeScene::occluded(const Ray& ray) const
+{
+  RTCRayHit rh = makeRayHit(ray);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  rtcOccluded1(Scene, &context.embree, &rh.ray);
+  return rh.ray.tfar < 0.0f;
+}
+
+double EmbreeScene::insideLength(const Ray& ray, float& firstEntry) const
+{
+  RTCRayHit rh = makeRayHit(ray);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.volumeQuery = true;
+  rtcIntersect1(Scene, &context.embree, &rh);
+  firstEntry = context.firstEntry;
+  return context.insideLength;
+}
+
+void EmbreeScene::insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const
+{
+  RTCRayHit rh = makeRayHit(ray);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.intervals = &out;
+  rtcIntersect1(Scene, &context.embree, &rh);
+}
+} // namespace sightline

@@ -1,0 +1,88 @@
+// RAII ownership of an Embree device and scene, plus the bookkeeping benchmarks need
+// (BVH build time and bytes).
+#pragma once
+
+#include "sightline/core/Geometry.h"
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <memory>
+#include <vector>
+
+namespace sightline
+{
+/// One Embree device. Errors reported by Embree are turned into std::runtime_error when the
+/// failing call returns. Track memory to measure BVH sizes.
+class EmbreeDevice
+{
+public:
+  EmbreeDevice();
+  ~EmbreeDevice();
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+
+  RTCDevice handle() const { return Device; }
+  /// Bytes Embree currently holds (BVHs and their builders' scratch freed after the build).
+  std::int64_t allocatedBytes() const { return Allocated.load(); }
+  /// Throws std::runtime_error if Embree recorded an error since the last check.
+  void throwOnError(const char* what) const;
+
+  /// A device shared by everything in the process that does not need its own.
+  static std::shared_ptr<EmbreeDevice> shared();
+
+private:
+  static bool memoryMonitor(void* user, std::ptrdiff_t bytes, bool post);
+  RTCDevice Device = nullptr;
+  std::atomic<std::int64_t> Allocated{ 0 };
+};
+
+/// Geometries plus their BVH. Add geometries, commit, then trace from any number of threads.
+class EmbreeScene
+{
+public:
+  explicit EmbreeScene(std::shared_ptr<EmbreeDevice> device = EmbreeDevice::shared());
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  /// Adds a geometry (kept alive by the scene); returns its Embree geometry id.
+  unsigned add(std::shared_ptr<const Geometry> geometry);
+  /// Builds the BVH. Must be called after the last add() and before tracing.
+  void commit();
+
+  bool empty() const { return Geometries.empty(); }
+  const Geometry& geometry(unsigned geomID) const { return *Geometries[geomID]; }
+  RTCScene handle() const { return Scene; }
+  Box3 bounds() const;
+
+  double buildSeconds() const { return BuildSeconds; }
+  /// Bytes of the BVH (measured through the device's memory monitor around the build).
+  std::int64_t bvhBytes() const { return BvhBytes; }
+  /// Bytes of the geometries' own data.
+  std::size_t geometryBytes() const;
+
+  /// Nearest hit along the ray; true if something was hit (rayhit.hit filled in).
+  bool intersect(RTCRayHit& rayhit, bool coherent = false) const;
+  /// Whether anything lies on the ray in [tnear, tfar].
+  bool occluded(const Ray& ray) const;
+  /// Total length of the ray segment [tnear, tfar] inside the scene's volume primitives
+  /// (see Geometry::insideLength); `firstEntry` receives where the ray first enters one.
+  double insideLength(const Ray& ray, float& firstEntry) const;
+
+  /// Appends the inside intervals (Geometry::insideIntervals) of every primitive whose box the
+  /// ray segment [tnear, tfar] crosses; the intervals themselves are not clipped.
+  void insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const;
+
+private:
+  std::shared_ptr<EmbreeDevice> Device;
+  RTCScene Scene = nullptr;
+  std::vector<std::shared_ptr<const Geometry>> Geometries;
+  double BuildSeconds = 0.0;
+  std::int64_t BvhBytes = 0;
+  bool Committed = false;
+};
+
+/// Fills an Embree ray from ours.
+RTCRayHit makeRayHit(const Ray& ray);
+} // namespace sightline

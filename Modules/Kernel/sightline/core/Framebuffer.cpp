@@ -1,0 +1,87 @@
+#include "sightline/core/Framebuffer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace sightline
+{
+void Framebuffer::resize(int width, int height)
+{
+  if (width < 0 || height < 0)
+    throw std::invalid_argument("sightline::Framebuffer: negative size");
+  Width = width;
+  Height = height;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  Color.resize(n);
+  Depth.resize(n);
+  Distance.resize(n);
+  clear();
+}
+
+void Framebuffer::clear()
+{
+  std::fill(Color.begin(), Color.end(), vec4(0.0f));
+  std::fill(Depth.begin(), Depth.end(), 1.0f);
+  std::fill(Distance.begin(), Distance.end(), kInfinity);
+}
+
+namespace
+{
+std::uint8_t toByte(float v)
+{
+  return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
+} // namespace
+
+std::vector<std::uint8_t> Framebuffer::toRGBA8(const vec3& background) const
+{
+  std::vector<std::uint8_t> out(4 * Color.size());
+  for (std::size_t i = 0; i < Color.size(); ++i)
+  {
+    const vec4& c = Color[i];
+    const vec3 rgb = glm::mix(background, vec3(c), c.a);
+    out[4 * i + 0] = toByte(rgb.r);
+    out[4 * i + 1] = toByte(rgb.g);
+    out[4 * i + 2] = toByte(rgb.b);
+    out[4 * i + 3] = toByte(c.a);
+  }
+  return out;
+}
+
+void Framebuffer::compositeNearest(const Framebuffer& other)
+{
+  if (other.Width != Width || other.Height != Height)
+    throw std::invalid_argument("sightline::Framebuffer::compositeNearest: sizes differ");
+  for (std::size_t i = 0; i < Color.size(); ++i)
+  {
+    if (other.Depth[i] < Depth[i])
+    {
+      Color[i] = other.Color[i];
+      Depth[i] = other.Depth[i];
+      Distance[i] = other.Distance[i];
+    }
+  }
+}
+
+void Framebuffer::blendUnder(const Framebuffer& front, bool nearerDepth)
+{
+  if (front.Width != Width || front.Height != Height)
+    throw std::invalid_argument("sightline::Framebuffer::blendUnder: sizes differ");
+  for (std::size_t i = 0; i < Color.size(); ++i)
+  {
+    const vec4& f = front.Color[i];
+    if (f.a <= 0.0f)
+      continue;
+    const vec4& b = Color[i];
+    const float alpha = f.a + (1.0f - f.a) * b.a;
+    const vec3 premultiplied = f.a * vec3(f) + (1.0f - f.a) * b.a * vec3(b);
+    Color[i] = vec4(premultiplied / alpha, alpha);
+    if (nearerDepth && front.Depth[i] < Depth[i])
+    {
+      Depth[i] = front.Depth[i];
+      Distance[i] = front.Distance[i];
+    }
+  }
+}
+} // namespace sightline

@@ -1,0 +1,52 @@
+// Colour and depth of one rendered view, stored bottom row first as OpenGL and vtkImageData do.
+#pragma once
+
+#include "sightline/math/Math.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sightline
+{
+class Framebuffer
+{
+public:
+  Framebuffer() = default;
+  Framebuffer(int width, int height) { resize(width, height); }
+
+  /// Resizes and clears to "nothing hit": colour (0,0,0,0), window depth 1, distance infinity.
+  void resize(int width, int height);
+  void clear();
+
+  int width() const { return Width; }
+  int height() const { return Height; }
+  std::size_t pixelCount() const { return Color.size(); }
+  std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * Width + x; }
+
+  /// Linear RGBA, not premultiplied; alpha 0 where no primitive was hit.
+  std::vector<vec4> Color;
+  /// Window depth in [0, 1] (1 where nothing was hit), ready for gl_FragDepth.
+  std::vector<float> Depth;
+  /// World-space distance along the primary ray from the near plane (infinity on a miss).
+  std::vector<float> Distance;
+
+  /// 8-bit RGBA composited over a background colour, bottom row first. Colours are clamped to
+  /// [0, 1] and rounded; no gamma is applied, as VTK's OpenGL rendering applies none.
+  std::vector<std::uint8_t> toRGBA8(const vec3& background) const;
+
+  /// Keeps, per pixel, whichever of this and other is nearer (smaller window depth), the way the
+  /// depth test composites several mappers in one window.
+  void compositeNearest(const Framebuffer& other);
+
+  /// Puts this image behind a translucent layer `front` (alpha blending, "over"): colours and
+  /// alpha blend, depth and distance stay this image's, as translucent surfaces drawn with
+  /// alpha blending write no depth; unless `nearerDepth`, where pixels the layer covers take
+  /// its depth and distance when they are nearer (volumes write the depth of their first
+  /// visible sample).
+  void blendUnder(const Framebuffer& front, bool nearerDepth = false);
+
+private:
+  int Width = 0;
+  int Height = 0;
+};
+} // namespace sightline

@@ -1,0 +1,200 @@
+// The one pattern every primitive follows: a Geometry knows its primitives' bounds, exact
+// ray intersection and base colour; UserGeometry<Derived> turns that into an Embree user
+// geometry with statically dispatched callbacks (no virtual call on the hot path).
+#pragma once
+
+#include "sightline/math/Math.h"
+#include "sightline/core/Shading.h"
+#include "sightline/core/SurfaceUnion.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sightline
+{
+/// Packs an 8-bit RGBA colour the way geometries store per-primitive colours (R in the low byte).
+inline std::uint32_t packRGBA8(std::uint8_t r, std::uint8_t g, std::uint8_t b, std::uint8_t a = 255)
+{
+  return std::uint32_t(r) | (std::uint32_t(g) << 8) | (std::uint32_t(b) << 16) | (std::uint32_t(a) << 24);
+}
+
+/// What a primitive reports at the nearest hit, in the geometry's own coordinates.
+struct SurfaceHit
+{
+  float t = kInfinity;
+  vec3 normal{ 0.0f }; ///< not necessarily unit length nor facing the ray
+};
+
+/// Abstract base of everything the renderer can trace.
+class Geometry
+{
+public:
+  virtual ~Geometry() = default;
+
+  /// Number of primitives handed to Embree (after invalid input was dropped).
+  virtual std::size_t size() const = 0;
+  /// Creates and commits the Embree geometry; the caller attaches and releases it.
+  virtual RTCGeometry createEmbreeGeometry(RTCDevice device) const = 0;
+  /// Whether primitives carry colours of their own (scalar colouring) that replace the
+  /// material's ambient and diffuse colours.
+  virtual bool hasPrimitiveColors() const = 0;
+  /// Colour of a primitive; only called when hasPrimitiveColors().
+  virtual vec3 primitiveColor(unsigned primitive) const = 0;
+  /// Colour at a surface point (scene coordinates), for primitives whose colour varies over
+  /// the surface (glyphs coloured by direction). Only called when hasPrimitiveColors().
+  virtual vec3 surfaceColor(unsigned primitive, const vec3& /*point*/) const
+  {
+    return primitiveColor(primitive);
+  }
+  /// Length of the part of the ray segment [tnear, tfar] inside a primitive, for geometries
+  /// rendered as homogeneous volumes (uncertainty glyphs); `entry` receives the first t inside.
+  /// Geometries without an inside return 0.
+  virtual double insideLength(unsigned /*primitive*/, const Ray& /*ray*/, float& /*entry*/) const
+  {
+    return 0.0;
+  }
+  /// Geometries drawn as unions of solids when translucent (RenderOptions::translucent):
+  /// append the intervals where the ray's whole line is inside `primitive`'s solids.
+  /// The default has no inside.
+  virtual void insideIntervals(unsigned /*primitive*/, const Ray& /*ray*/,
+    std::vector<InsideInterval>& /*out*/) const
+  {
+  }
+  /// Outward (not necessarily unit) normal of a solid part at a point on its surface.
+  virtual vec3 partNormal(std::uint32_t /*part*/, const vec3& /*point*/) const { return vec3(0.0f); }
+  /// Colour of a solid part; only called when hasPrimitiveColors().
+  virtual vec3 partColor(std::uint32_t /*part*/) const { return vec3(1.0f); }
+  /// Bytes the geometry itself holds (the BVH is counted by the scene).
+  virtual std::size_t memoryBytes() const = 0;
+  /// Bounds of all primitives (empty box when there are none).
+  virtual Box3 bounds() const = 0;
+
+  Material material;
+};
+
+/// Embree context of every trace. In a volume or union query the user geometries do not report
+/// hits: Embree then visits every box along the ray and each primitive adds the length the ray
+/// spends inside it, or its inside intervals. (This is the multi-hit traversal the paper builds
+/// from intersection filters; in a user geometry the intersect callback already sees every
+/// candidate, so no filter function and no rtcFilterIntersection round trip is needed.)
+struct TraceContext
+{
+  RTCIntersectContext embree; ///< first member, so Embree's pointer is also ours
+  bool volumeQuery = false;
+  double insideLength = 0.0;
+  /// Union query (translucent tubes): when set, primitives append their inside intervals here
+  /// instead of reporting hits, so Embree visits every box along the ray.
+  std::vector<InsideInterval>* intervals = nullptr;
+  float firstEntry = kInfinity;
+};
+
+/// Adapter from a primitive type to Embree's user-geometry callbacks. Derived must provide
+///   Box3 bounds(unsigned primitive) const;
+///   bool intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const;  // hit.t in (tnear, tfar)
+template <class Derived>
+class UserGeometry : public Geometry
+{
+public:
+  RTCGeometry createEmbreeGeometry(RTCDevice device) const override
+  {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(this->size()));
+    rtcSetGeometryUserData(geometry, const_cast<Derived*>(static_cast<const Derived*>(this)));
+    rtcSetGeometryBoundsFunction(geometry, &UserGeometry::boundsCallback, nullptr);
+    rtcSetGeometryIntersectFunction(geometry, &UserGeometry::intersectCallback);
+    rtcSetGeometryOccludedFunction(geometry, &UserGeometry::occludedCallback);
+    rtcCommitGeometry(geometry);
+    return geometry;
+  }
+
+private:
+  static void boundsCallback(const RTCBoundsFunctionArguments* args)
+  {
+    const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
+    const Box3 box = self->bounds(args->primID);
+    args->bounds_o->lower_x = box.lower.x;
+    args->bounds_o->lower_y = box.lower.y;
+    args->bounds_o->lower_z = box.lower.z;
+    args->bounds_o->upper_x = box.upper.x;
+    args->bounds_o->upper_y = box.upper.y;
+    args->bounds_o->upper_z = box.upper.z;
+  }
+
+  static Ray loadRay(RTCRayN* rays, unsigned n, unsigned i)
+  {
+    Ray ray;
+    ray.origin = vec3(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i));
+    ray.direction =
+      vec3(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i));
+    ray.tnear = RTCRayN_tnear(rays, n, i);
+    ray.tfar = RTCRayN_tfar(rays, n, i);
+    return ray;
+  }
+
+  static void intersectCallback(const RTCIntersectFunctionNArguments* args)
+  {
+    const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    auto* trace = reinterpret_cast<TraceContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i)
+    {
+      if (args->valid[i] != -1)
+        continue;
+      if (trace->intervals)
+      {
+        const std::size_t before = trace->intervals->size();
+        self->insideIntervals(args->primID, loadRay(rays, args->N, i), *trace->intervals);
+        for (std::size_t k = before; k < trace->intervals->size(); ++k)
+          (*trace->intervals)[k].geometry = args->geomID;
+        continue;
+      }
+      if (trace->volumeQuery)
+      {
+        float entry = kInfinity;
+        trace->insideLength += self->insideLength(args->primID, loadRay(rays, args->N, i), entry);
+        trace->firstEntry = std::min(trace->firstEntry, entry);
+        continue;
+      }
+      SurfaceHit hit;
+      if (!self->intersect(args->primID, loadRay(rays, args->N, i), hit))
+        continue;
+      RTCRayN_tfar(rays, args->N, i) = hit.t;
+      RTCHitN_Ng_x(hits, args->N, i) = hit.normal.x;
+      RTCHitN_Ng_y(hits, args->N, i) = hit.normal.y;
+      RTCHitN_Ng_z(hits, args->N, i) = hit.normal.z;
+      RTCHitN_u(hits, args->N, i) = 0.0f;
+      RTCHitN_v(hits, args->N, i) = 0.0f;
+      RTCHitN_primID(hits, args->N, i) = args->primID;
+      RTCHitN_geomID(hits, args->N, i) = args->geomID;
+      RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+    }
+  }
+
+  static void occludedCallback(const RTCOccludedFunctionNArguments* args)
+  {
+    const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i)
+    {
+      if (args->valid[i] != -1)
+        continue;
+      SurfaceHit hit;
+      if (self->intersect(args->primID, loadRay(args->ray, args->N, i), hit))
+        RTCRayN_tfar(args->ray, args->N, i) = -kInfinity;
+    }
+  }
+};
+
+/// Input problems a geometry found and skipped; the VTK layer turns these into warnings.
+struct ValidationReport
+{
+  std::size_t rejected = 0;         ///< primitives dropped
+  std::vector<std::string> reasons; ///< one line per kind of problem, naming the first index
+  bool clean() const { return rejected == 0; }
+};
+} // namespace sightline

@@ -1,0 +1,378 @@
+#include "sightline/core/Renderer.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace sightline
+{
+namespace
+{
+/// Everything a pixel needs, computed once per frame.
+struct FrameContext
+{
+  const EmbreeScene& scene;
+  const Camera& camera;
+  const Lighting& lighting;
+  const RenderOptions& options;
+  dmat4 objectToWorld;
+  glm::mat3 normalToWorld;
+  glm::dmat3 worldToObjectDirection;
+  bool identityTransform;
+  /// Translucent unions: intervals this close count as touching (no interior surface).
+  double unionGap;
+  /// Length of the first segment a translucent ray is traced in, and the translucent
+  /// scene's bounds (scene coordinates).
+  double translucentSegment;
+  Box3 translucentBounds;
+};
+
+constexpr int kMaxShadowedLights = 16;
+
+/// A small integer hash (Jarvis-style xorshift-multiply) for per-pixel sample rotations.
+std::uint32_t hashPixel(std::uint32_t x, std::uint32_t y, std::uint32_t seed)
+{
+  std::uint32_t h = x * 0x8da6b343u ^ y * 0xd8163841u ^ seed * 0xcb1ab31fu;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+
+/// Unshadowed fraction of each light at a surface point (scene coordinates).
+void lightVisibility(const FrameContext& frame, const dvec3& point, const vec3& objectNormal,
+  const vec3& worldNormal, int px, int py, float* visibility, std::size_t& shadowRays)
+{
+  const ShadowOptions& shadows = frame.options.shadows;
+  // Leave the surface along the normal by a little more than the hit point's rounding error.
+  const double offset = 1e-5 * (glm::length(point) + 1.0);
+  const dvec3 origin = point + offset * dvec3(objectNormal);
+  const std::size_t lights = std::min<std::size_t>(frame.lighting.lights.size(), kMaxShadowedLights);
+  for (std::size_t i = 0; i < lights; ++i)
+  {
+    const vec3 toLightWorld = -frame.lighting.lights[i].direction;
+    if (glm::dot(worldNormal, toLightWorld) <= 0.0f)
+    {
+      visibility[i] = 0.0f;
+      continue;
+    }
+    auto blocked = [&](const vec3& worldDirection)
+    {
+      Ray ray;
+      ray.origin = vec3(origin);
+      ray.direction = frame.identityTransform
+        ? worldDirection
+        : vec3(glm::normalize(frame.worldToObjectDirection * dvec3(worldDirection)));
+      ray.tnear = 0.0f;
+      ray.tfar = kInfinity;
+      ++shadowRays;
+      return frame.scene.occluded(ray);
+    };
+    if (shadows.mode == ShadowMode::Hard || shadows.samples <= 1)
+    {
+      visibility[i] = blocked(toLightWorld) ? 0.0f : 1.0f;
+      continue;
+    }
+    // Stratified directions in the light's cone, weighted by the cosine at the surface.
+    const vec3 axis = toLightWorld;
+    const vec3 helper = std::abs(axis.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+    const vec3 tangent = glm::normalize(glm::cross(helper, axis));
+    const vec3 bitangent = glm::cross(axis, tangent);
+    const float cosMax = std::cos(shadows.lightAngularRadius);
+    const std::uint32_t h = hashPixel(std::uint32_t(px), std::uint32_t(py), shadows.seed);
+    const float rotation = float(h & 0xffffu) / 65536.0f;
+    const float jitter = float(h >> 16) / 65536.0f;
+    float lit = 0.0f, total = 0.0f;
+    for (int s = 0; s < shadows.samples; ++s)
+    {
+      const float u1 = (float(s) + jitter) / float(shadows.samples);
+      float u2 = float(s) * 0.618034f + rotation;
+      u2 -= std::floor(u2);
+      const float cosTheta = 1.0f - u1 * (1.0f - cosMax);
+      const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+      const float phi = 6.2831853f * u2;
+      const vec3 direction = cosTheta * axis + sinTheta * (std::cos(phi) * tangent + std::sin(phi) * bitangent);
+      const float weight = glm::dot(worldNormal, direction);
+      if (weight <= 0.0f)
+        continue;
+      total += weight;
+      if (!blocked(direction))
+        lit += weight;
+    }
+    visibility[i] = total > 0.0f ? lit / total : 0.0f;
+  }
+  for (std::size_t i = lights; i < frame.lighting.lights.size(); ++i)
+    visibility[i] = 1.0f;
+}
+
+/// Per-thread scratch and counters.
+struct PixelScratch
+{
+  std::size_t shadowRays = 0;
+  std::size_t translucentSurfaces = 0;
+  std::vector<InsideInterval> intervals;
+  std::vector<UnionSurface> surfaces;
+};
+
+/// Unit normal facing the viewer (two-sided lighting, as VTK's default) in scene and world
+/// coordinates, and the direction to the viewer in world coordinates.
+struct ShadingFrame
+{
+  vec3 objectNormal, normal, toViewer;
+};
+
+ShadingFrame orientNormal(const FrameContext& frame, vec3 objectNormal, const vec3& direction)
+{
+  ShadingFrame s;
+  objectNormal = glm::normalize(objectNormal);
+  if (glm::dot(objectNormal, direction) > 0.0f)
+    objectNormal = -objectNormal;
+  s.objectNormal = s.normal = objectNormal;
+  s.toViewer = -direction;
+  if (!frame.identityTransform)
+  {
+    s.normal = glm::normalize(frame.normalToWorld * s.normal);
+    s.toViewer = glm::normalize(vec3(frame.objectToWorld * dvec4(dvec3(s.toViewer), 0.0)));
+  }
+  return s;
+}
+
+/// Composites the union surfaces of the translucent scene in (ray.tnear, ray.tfar) front to
+/// back over `color` (not premultiplied); returns the nearest surface's t, or infinity.
+/// The ray is traced in segments of doubling length so that once the layers saturate nothing
+/// farther is visited. Each segment collects every solid overlapping it (their intervals are
+/// not clipped), so the union's surfaces inside the segment are exact; a solid spanning two
+/// segments is seen in both, and only surfaces within each segment's range are drawn.
+float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& color, PixelScratch& scratch)
+{
+  const EmbreeScene& scene = *frame.options.translucent.scene;
+  vec3 premultiplied(0.0f);
+  float alpha = 0.0f;
+  float nearest = kInfinity;
+  bool saturated = false;
+  // Segments start where the ray enters the scene's box, not at the near plane.
+  double segmentStart = ray.tnear, rayEnd = ray.tfar;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double o = ray.origin[axis], d = ray.direction[axis];
+    const double lo = frame.translucentBounds.lower[axis], hi = frame.translucentBounds.upper[axis];
+    if (d == 0.0)
+    {
+      if (o < lo || o > hi)
+        return kInfinity;
+      continue;
+    }
+    double t0 = (lo - o) / d, t1 = (hi - o) / d;
+    if (t0 > t1)
+      std::swap(t0, t1);
+    segmentStart = std::max(segmentStart, t0);
+    rayEnd = std::min(rayEnd, t1);
+  }
+  if (!(segmentStart <= rayEnd))
+    return kInfinity;
+  // Back off by the merge gap so a surface right at the box's face is not lost.
+  segmentStart = std::max(double(ray.tnear), segmentStart - frame.unionGap);
+  rayEnd = std::min(double(ray.tfar), rayEnd + frame.unionGap);
+  double segmentLength = frame.translucentSegment;
+  while (!saturated && segmentStart < rayEnd)
+  {
+    Ray segment = ray;
+    segment.tnear = float(segmentStart);
+    const double segmentEnd = std::min(rayEnd, segmentStart + segmentLength);
+    segment.tfar = float(segmentEnd);
+    scratch.intervals.clear();
+    scene.insideIntervals(segment, scratch.intervals);
+    // unionSurfaces takes the open range (tnear, tfar): a surface exactly at a segment's end
+    // belongs to that segment, so its range reaches just past the end (the last segment's end
+    // is the ray's own).
+    const bool last = segmentEnd >= rayEnd;
+    unionSurfaces(scratch.intervals, segmentStart,
+      last ? segmentEnd : std::nextafter(segmentEnd, 1e300), frame.unionGap, scratch.surfaces);
+    for (const UnionSurface& surface : scratch.surfaces)
+    {
+      const Geometry& geometry = scene.geometry(surface.geometry);
+      const vec3 point = vec3(dvec3(ray.origin) + surface.t * dvec3(ray.direction));
+      const ShadingFrame s = orientNormal(frame, geometry.partNormal(surface.part, point), ray.direction);
+      const Material& m = geometry.material;
+      vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
+      if (geometry.hasPrimitiveColors())
+        ambientColor = diffuseColor = geometry.partColor(surface.part);
+      const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
+      premultiplied += (1.0f - alpha) * m.opacity * rgb;
+      alpha += (1.0f - alpha) * m.opacity;
+      nearest = std::min(nearest, float(surface.t));
+      ++scratch.translucentSurfaces;
+      if (alpha >= frame.options.translucent.saturation)
+      {
+        saturated = true;
+        break;
+      }
+    }
+    if (last)
+      break;
+    segmentStart = segmentEnd;
+    segmentLength *= 4.0;
+  }
+  if (!(nearest < kInfinity))
+    return kInfinity;
+  const float total = alpha + (1.0f - alpha) * color.a;
+  if (total > 0.0f)
+    color = vec4((premultiplied + (1.0f - alpha) * color.a * vec3(color)) / total, total);
+  return nearest;
+}
+
+/// Traces the primary ray of pixel (x, y); returns whether it hit an opaque surface.
+bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, PixelScratch& scratch)
+{
+  Ray ray = frame.camera.primaryRay(x + 0.5, y + 0.5);
+  const std::size_t i = fb.index(x, y);
+  if (frame.options.depthLimit)
+  {
+    // Stop at opaque geometry drawn by someone else (direction is unit: t is a distance).
+    const float limit = (*frame.options.depthLimit)[i];
+    if (limit < 1.0f)
+      ray.tfar = float(frame.camera.primaryRayParameterAt(x + 0.5, y + 0.5, limit));
+  }
+  RTCRayHit rh = makeRayHit(ray);
+  const bool hit = !frame.scene.empty() && frame.scene.intersect(rh, true);
+  const VolumeOptions& volumes = frame.options.volumes;
+  const bool withVolumes = volumes.scene && !volumes.scene->empty();
+  const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
+  if (!hit && !withVolumes && !withTranslucent)
+    return false;
+
+  const double worldScale = frame.identityTransform
+    ? 1.0
+    : glm::length(glm::dmat3(frame.objectToWorld) * dvec3(ray.direction));
+  vec4 color(0.0f);
+  float depthT = kInfinity;
+  if (hit)
+  {
+    const Geometry& geometry = frame.scene.geometry(rh.hit.geomID);
+    const float t = rh.ray.tfar;
+    const dvec3 hitObject = dvec3(ray.origin) + double(t) * dvec3(ray.direction);
+    const ShadingFrame s = orientNormal(frame, vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), ray.direction);
+    const Material& m = geometry.material;
+    vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
+    if (geometry.hasPrimitiveColors())
+      ambientColor = diffuseColor = geometry.surfaceColor(rh.hit.primID, vec3(hitObject));
+    float visibility[kMaxShadowedLights];
+    const bool shadowed = frame.options.shadows.mode != ShadowMode::None && !frame.lighting.lights.empty();
+    if (shadowed)
+      lightVisibility(frame, hitObject, s.objectNormal, s.normal, x, y, visibility, scratch.shadowRays);
+    const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting,
+      shadowed ? visibility : nullptr);
+    color = vec4(rgb, m.opacity);
+    depthT = t;
+  }
+  Ray segment = ray;
+  segment.tfar = hit ? rh.ray.tfar : ray.tfar;
+  if (withVolumes)
+  {
+    float entry = kInfinity;
+    const double inside = volumes.scene->insideLength(segment, entry);
+    if (inside > 0.0)
+    {
+      const float transmittance = float(std::exp(-double(volumes.extinction) * inside * worldScale));
+      if (hit)
+        color = vec4(transmittance * vec3(color) + (1.0f - transmittance) * volumes.emission, color.a);
+      else
+        color = vec4(volumes.emission, 1.0f - transmittance);
+      depthT = std::min(depthT, entry); // the volume's front, so it composites with GL geometry
+    }
+  }
+  if (withTranslucent)
+    depthT = std::min(depthT, compositeTranslucent(frame, segment, color, scratch));
+  if (!(depthT < kInfinity))
+    return false;
+
+  const dvec3 depthPoint = dvec3(ray.origin) + double(depthT) * dvec3(ray.direction);
+  fb.Color[i] = color;
+  fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(depthPoint), 0.0, 1.0));
+  // t is in the scene's units; the framebuffer keeps world distances.
+  fb.Distance[i] = float(depthT * worldScale);
+  return hit;
+}
+} // namespace
+
+RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera,
+  const Lighting& lighting, Framebuffer& framebuffer, const RenderOptions& options) const
+{
+  const auto start = std::chrono::steady_clock::now();
+  framebuffer.resize(camera.width(), camera.height());
+  RenderStatistics stats;
+  const EmbreeScene* translucent = options.translucent.scene;
+  if (scene.empty() && !(translucent && !translucent->empty()))
+    return stats;
+  if (options.depthLimit && options.depthLimit->size() != framebuffer.pixelCount())
+    throw std::invalid_argument("sightline::Renderer: the depth limit has " +
+      std::to_string(options.depthLimit->size()) + " values for " +
+      std::to_string(framebuffer.pixelCount()) + " pixels");
+
+  const bool identity = options.objectToWorld == dmat4(1.0);
+  double unionGap = 0.0, translucentSegment = 1e30;
+  Box3 translucentBounds;
+  if (translucent && !translucent->empty())
+  {
+    const Box3 box = translucent->bounds();
+    translucentBounds = box;
+    const double diagonal = glm::length(box.upper - box.lower);
+    unionGap = 1e-7 * (diagonal + glm::length(box.upper) + glm::length(box.lower));
+    // A first segment of 1/64 of the scene: dense scenes saturate within a few segments, and
+    // a ray through the whole scene costs log2(64) + 1 extra traversals at most.
+    translucentSegment = std::max(diagonal / 32.0, 1e-30);
+  }
+  const FrameContext frame{ scene, camera, lighting, options, options.objectToWorld,
+    glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))),
+    glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap, translucentSegment, translucentBounds };
+
+  // Bands of tile rows, rendered one after another so that progress is reported (and a cancel
+  // honoured) on the calling thread; tiles within a band run in parallel.
+  const int tile = std::max(1, options.tileSize);
+  const int height = camera.height();
+  const int width = camera.width();
+  const int tileRows = (height + tile - 1) / tile;
+  const int bands = options.progress ? std::min(tileRows, 16) : 1;
+  tbb::combinable<std::size_t> hits([] { return std::size_t(0); });
+  tbb::enumerable_thread_specific<PixelScratch> scratches;
+  for (int band = 0; band < bands; ++band)
+  {
+    const int y0 = (tileRows * band / bands) * tile;
+    const int y1 = std::min(height, (tileRows * (band + 1) / bands) * tile);
+    tbb::parallel_for(tbb::blocked_range2d<int>(y0, y1, tile, 0, width, tile),
+      [&](const tbb::blocked_range2d<int>& r)
+      {
+        PixelScratch& scratch = scratches.local();
+        std::size_t local = 0;
+        for (int y = r.rows().begin(); y < r.rows().end(); ++y)
+          for (int x = r.cols().begin(); x < r.cols().end(); ++x)
+            local += renderPixel(frame, x, y, framebuffer, scratch);
+        hits.local() += local;
+      });
+    if (options.progress && !options.progress(double(band + 1) / bands))
+    {
+      stats.completed = band + 1 == bands;
+      break;
+    }
+  }
+  stats.hits = hits.combine(std::plus<std::size_t>());
+  for (const PixelScratch& scratch : scratches)
+  {
+    stats.shadowRays += scratch.shadowRays;
+    stats.translucentSurfaces += scratch.translucentSurfaces;
+  }
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+} // namespace sightline

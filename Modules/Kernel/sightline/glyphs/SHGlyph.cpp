@@ -1,0 +1,674 @@
+#include "sightline/glyphs/SHGlyph.h"
+
+#include "sightline/math/PolynomialRoots.h"
+
+#include "sightline/math/LegendreTables.h"
+#include "sightline/math/SphereSampling.h"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace sightline
+{
+namespace
+{
+constexpr long double kPiLong = kPiOf<long double>;
+constexpr int kOrderSlots = kMaxGlyphOrder / 2 + 1;
+
+/// Per-order constants of Algorithm 1, computed once in long double.
+template <class T>
+struct RayTables
+{
+  int order = 0;
+  T u[kMaxGlyphOrder + 1]; ///< sample points (u_l, v_l) on the unit half circle
+  T v[kMaxGlyphOrder + 1];
+  T inverseVandermonde[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
+  /// max over the unit circle of |u^i v^(k-i)| = sqrt(i^i (k-i)^(k-i) / k^k) (Appendix B; the
+  /// factorials in Section 3.5's version of this formula would give a bound that is too small).
+  T circleBound[kMaxGlyphOrder + 1];
+  T binomial[kMaxGlyphOrder + 2]; ///< C(k+1, j)
+  /// max over the unit circle of |u^i v^(k+1-i)|: bounds g(u, v) v, whose maximum is the
+  /// largest distance of the glyph's cross-section from the ray's line through the centre.
+  T sineBound[kMaxGlyphOrder + 1];
+
+  explicit RayTables(int k) : order(k)
+  {
+    const int n = k + 1;
+    long double V[kMaxGlyphOrder + 1][2 * (kMaxGlyphOrder + 1)];
+    for (int l = 0; l < n; ++l)
+    {
+      const long double angle = l * kPiLong / n;
+      const long double ul = std::cos(angle), vl = std::sin(angle);
+      u[l] = T(ul);
+      v[l] = T(vl);
+      for (int i = 0; i < n; ++i)
+      {
+        V[l][i] = std::pow(ul, i) * std::pow(vl, k - i);
+        V[l][n + i] = l == i ? 1.0L : 0.0L;
+      }
+    }
+    // Gauss-Jordan with partial pivoting on [V | I].
+    for (int col = 0; col < n; ++col)
+    {
+      int pivot = col;
+      for (int r = col + 1; r < n; ++r)
+        if (std::abs(V[r][col]) > std::abs(V[pivot][col]))
+          pivot = r;
+      for (int c = 0; c < 2 * n; ++c)
+        std::swap(V[col][c], V[pivot][c]);
+      const long double inv = 1.0L / V[col][col];
+      for (int c = 0; c < 2 * n; ++c)
+        V[col][c] *= inv;
+      for (int r = 0; r < n; ++r)
+        if (r != col && V[r][col] != 0.0L)
+        {
+          const long double factor = V[r][col];
+          for (int c = 0; c < 2 * n; ++c)
+            V[r][c] -= factor * V[col][c];
+        }
+    }
+    for (int i = 0; i < n; ++i)
+      for (int l = 0; l < n; ++l)
+        inverseVandermonde[i][l] = T(V[i][n + l]);
+    for (int i = 0; i < n; ++i)
+    {
+      const long double a = i == 0 ? 1.0L : std::pow((long double)i, i);
+      const long double b = k - i == 0 ? 1.0L : std::pow((long double)(k - i), k - i);
+      circleBound[i] = k == 0 ? T(1) : T(std::sqrt(a * b / std::pow((long double)k, k)));
+    }
+    for (int i = 0; i < n; ++i)
+    {
+      const long double a = i == 0 ? 1.0L : std::pow((long double)i, i);
+      const long double b = std::pow((long double)(n - i), n - i);
+      sineBound[i] = T(std::sqrt(a * b / std::pow((long double)n, n)) * (1.0L + 1e-6L));
+    }
+    long double c = 1.0L;
+    for (int j = 0; j <= k + 1; ++j)
+    {
+      binomial[j] = T(c);
+      c = c * (k + 1 - j) / (j + 1);
+    }
+  }
+};
+
+template <class T>
+const RayTables<T>& rayTables(int order)
+{
+  static const auto all = []
+  {
+    std::vector<std::unique_ptr<RayTables<T>>> tables;
+    for (int k = 0; k <= kMaxGlyphOrder; k += 2)
+      tables.push_back(std::make_unique<RayTables<T>>(k));
+    return tables;
+  }();
+  return *all[order / 2];
+}
+
+/// The canonical basis's recurrence constants (detail::LegendreTables) in the arithmetic T of
+/// the batch below, so it reproduces evaluateSHSum.
+template <class T>
+struct BatchLegendre
+{
+  T start[kMaxGlyphOrder + 1];
+  T first[kMaxGlyphOrder + 1]; ///< sqrt(2m + 3): S_{m+1}^m = first[m] z S_m^m
+  T a[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
+  T b[kMaxGlyphOrder + 1][kMaxGlyphOrder + 1];
+  BatchLegendre()
+  {
+    const detail::LegendreTables& t = detail::legendreTables();
+    for (int m = 0; m <= kMaxGlyphOrder; ++m)
+    {
+      start[m] = T(t.start[m]);
+      first[m] = T(std::sqrt(double(2 * m + 3)));
+      for (int l = 0; l <= kMaxGlyphOrder; ++l)
+      {
+        a[l][m] = T(t.a[l][m]);
+        b[l][m] = T(t.b[l][m]);
+      }
+    }
+  }
+};
+
+template <class T>
+const BatchLegendre<T>& batchLegendre()
+{
+  static const BatchLegendre<T> instance;
+  return instance;
+}
+
+/// evaluateSHSum at the K + 1 directions (x[l], y[l], z[l]) at once: the recurrences are the
+/// same for every direction, so the loops over directions are innermost, of fixed length, and
+/// vectorise; constants and coefficients are loaded once per ray instead of once per direction.
+template <int K, class T>
+inline void evaluateSHSumBatch(const T* coefficients, const T* x, const T* y, const T* z, T* sum)
+{
+  constexpr int n = K + 1;
+  const BatchLegendre<T>& t = batchLegendre<T>();
+  T A[n], B[n], previous[n], current[n], weightA[n], weightB[n];
+  for (int d = 0; d < n; ++d)
+  {
+    A[d] = T(1);
+    B[d] = T(0);
+    sum[d] = T(0);
+  }
+  for (int m = 0; m <= K; ++m)
+  {
+    if (m > 0)
+      for (int d = 0; d < n; ++d)
+      {
+        const T nextA = x[d] * A[d] - y[d] * B[d];
+        B[d] = x[d] * B[d] + y[d] * A[d];
+        A[d] = nextA;
+      }
+    const T cA0 = coefficients[shIndex(m, m)];
+    const T cB0 = m == 0 ? T(0) : coefficients[shIndex(m, -m)];
+    const bool even = m % 2 == 0;
+    for (int d = 0; d < n; ++d)
+    {
+      previous[d] = t.start[m];
+      current[d] = t.start[m];
+      weightA[d] = even ? cA0 * current[d] : T(0);
+      weightB[d] = even ? cB0 * current[d] : T(0);
+    }
+    if (m + 1 <= K)
+    {
+      for (int d = 0; d < n; ++d)
+        current[d] = t.first[m] * z[d] * previous[d];
+      if (!even)
+      {
+        const T cA = coefficients[shIndex(m + 1, m)];
+        const T cB = coefficients[shIndex(m + 1, -m)];
+        for (int d = 0; d < n; ++d)
+        {
+          weightA[d] += cA * current[d];
+          weightB[d] += cB * current[d];
+        }
+      }
+    }
+    for (int l = m + 2; l <= K; ++l)
+    {
+      const T al = t.a[l][m], bl = t.b[l][m];
+      for (int d = 0; d < n; ++d)
+      {
+        const T next = al * z[d] * current[d] - bl * previous[d];
+        previous[d] = current[d];
+        current[d] = next;
+      }
+      if (l % 2 == 0)
+      {
+        const T cA = coefficients[shIndex(l, m)];
+        const T cB = m == 0 ? T(0) : coefficients[shIndex(l, -m)];
+        for (int d = 0; d < n; ++d)
+        {
+          weightA[d] += cA * current[d];
+          weightB[d] += cB * current[d];
+        }
+      }
+    }
+    for (int d = 0; d < n; ++d)
+      sum[d] += weightA[d] * A[d] + weightB[d] * B[d];
+  }
+}
+
+template <int K, class T>
+int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tolerance, T* t,
+  bool firstOnly)
+{
+  const RayTables<T>& tab = rayTables<T>(K);
+  const auto evaluate = [](const T* c, T x, T y, T z) { return evaluateSHSum<T>(K, c, x, y, z); };
+  const T dO = d[0] * o[0] + d[1] * o[1] + d[2] * o[2];
+  T e[3] = { o[0] - dO * d[0], o[1] - dO * d[1], o[2] - dO * d[2] };
+  const T eo = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  if (eo > T(0))
+  {
+    e[0] /= eo;
+    e[1] /= eo;
+    e[2] /= eo;
+  }
+  else
+  {
+    // The ray passes through the centre: the plane is any plane containing d.
+    const int axis = std::abs(d[0]) < std::abs(d[1]) ? (std::abs(d[0]) < std::abs(d[2]) ? 0 : 2)
+                                                     : (std::abs(d[1]) < std::abs(d[2]) ? 1 : 2);
+    T a[3] = { T(0), T(0), T(0) };
+    a[axis] = T(1);
+    e[0] = a[0] - d[axis] * d[0];
+    e[1] = a[1] - d[axis] * d[1];
+    e[2] = a[2] - d[axis] * d[2];
+    const T length = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    e[0] /= length;
+    e[1] /= length;
+    e[2] /= length;
+  }
+
+  // g(u_l, v_l) = F(u_l d + v_l e) on the great circle, then g's coefficients.
+  T samples[K + 1];
+  {
+    T x[K + 1], y[K + 1], z[K + 1];
+    for (int l = 0; l <= K; ++l)
+    {
+      x[l] = tab.u[l] * d[0] + tab.v[l] * e[0];
+      y[l] = tab.u[l] * d[1] + tab.v[l] * e[1];
+      z[l] = tab.u[l] * d[2] + tab.v[l] * e[2];
+    }
+    evaluateSHSumBatch<K, T>(b, x, y, z, samples);
+  }
+  T g[K + 1];
+  T gmax = T(0), sineMax = T(0);
+  for (int i = 0; i <= K; ++i)
+  {
+    T sum = T(0);
+    for (int l = 0; l <= K; ++l)
+      sum += tab.inverseVandermonde[i][l] * samples[l];
+    g[i] = sum;
+    gmax += std::abs(sum) * tab.circleBound[i];
+    sineMax += std::abs(sum) * tab.sineBound[i];
+  }
+  // Early outs: the ray's distance from the centre exceeds the glyph's bounding circle, or the
+  // bound on |g(u, v) v| (the cross-section's distance from the line through the centre
+  // parallel to the ray; sineBound carries a relative margin of 1e-6 against rounding).
+  if (!(gmax > eo) || !(sineMax > eo))
+    return 0;
+
+  // In units of gmax: w = (t + d.o) / gmax along the ray, eps = (e.o) / gmax <= 1, and
+  //   P(w) = h(w)^2 - (w^2 + eps^2)^(k+1),  h(w) = sum_i g_i / gmax * eps^(k-i) w^i.
+  const T scale = T(1) / gmax;
+  const T eps = eo * scale;
+  const T eps2 = eps * eps;
+  T h[K + 1];
+  T power = T(1);
+  for (int i = K; i >= 0; --i)
+  {
+    h[i] = g[i] * scale * power;
+    power *= eps;
+  }
+  constexpr int N = 2 * K + 2;
+  T P[N + 1];
+  for (int i = 0; i <= N; ++i)
+    P[i] = T(0);
+  for (int i = 0; i <= K; ++i)
+  {
+    P[2 * i] += h[i] * h[i];
+    for (int j = i + 1; j <= K; ++j)
+      P[i + j] += T(2) * h[i] * h[j];
+  }
+  T eps2Power = T(1); // eps^(2 (k+1-j)), built from j = k+1 downwards
+  for (int j = K + 1; j >= 0; --j)
+  {
+    P[2 * j] -= tab.binomial[j] * eps2Power;
+    eps2Power *= eps2;
+  }
+
+  // Roots lie within the bounding circle |w| <= sqrt(1 - eps^2); the bound is attained for a
+  // sphere, so widen it by a few ulps to keep those roots inside the interval.
+  const T wmax = std::sqrt(std::max(T(0), T(1) - eps2)) * (T(1) + T(16) * std::numeric_limits<T>::epsilon());
+  const T lo = std::max(-wmax, (tmin + dO) * scale);
+  const T hi = std::min(wmax, (tmax + dO) * scale);
+  if (!(lo <= hi))
+    return 0;
+  // Root isolation by Bernstein subdivision in double; float keeps the derivative cascade (its
+  // rounding level leaves too many Bernstein signs uncertain for subdivision to pay off).
+  const auto findRoots = [&](T* found, bool first)
+  {
+    const T rootTolerance = tolerance * std::max(wmax, eps);
+    if constexpr (sizeof(T) >= sizeof(double))
+      return polynomialRootsSubdivision<N, T>(P, lo, hi, rootTolerance, found, first);
+    else
+      return polynomialRoots<N, T>(P, lo, hi, rootTolerance, found, first);
+  };
+  T roots[N];
+  int count = findRoots(roots, firstOnly);
+  // The centre itself solves P = 0 when the ray passes through it (P = w^2k (g_k^2 - w^2) at
+  // eps = 0), and in float also when eps^k underflows. It is a surface point only where F
+  // vanishes, so a root within a few tolerances of the centre is kept only if F is that small
+  // there too. (Genuine roots near, but not at, the centre pass: we measured no misses.)
+  const T centreRadius = T(64) * tolerance * std::max(wmax, eps);
+  auto genuine = [&](T w)
+  {
+    const T r = std::sqrt(w * w + eps2);
+    if (r >= centreRadius)
+      return true;
+    const T x = r > T(0) ? (w * d[0] + eps * e[0]) / r : d[0];
+    const T y = r > T(0) ? (w * d[1] + eps * e[1]) / r : d[1];
+    const T z = r > T(0) ? (w * d[2] + eps * e[2]) / r : d[2];
+    return std::abs(evaluate(b, x, y, z)) * scale <= T(4) * centreRadius;
+  };
+  int kept = 0;
+  for (int i = 0; i < count; ++i)
+  {
+    const T ti = roots[i] * gmax - dO;
+    if (ti < tmin || ti > tmax || !genuine(roots[i]))
+      continue;
+    t[kept++] = ti;
+  }
+  if (firstOnly && kept == 0 && count > 0)
+  {
+    // The nearest root was the centre (or rounded out of range): look at all of them.
+    count = findRoots(roots, false);
+    for (int i = 0; i < count && kept == 0; ++i)
+    {
+      const T ti = roots[i] * gmax - dO;
+      if (ti >= tmin && ti <= tmax && genuine(roots[i]))
+        t[kept++] = ti;
+    }
+  }
+  return kept;
+}
+
+/// Spherical Fibonacci directions in the upper hemisphere with the basis evaluated at each.
+struct FibonacciTable
+{
+  int order = 0;
+  int count = 0;
+  std::vector<dvec3> directions;
+  std::vector<double> basis; ///< count x shCoefficientCount(order)
+
+  FibonacciTable(int k, int samples) : order(k), count(samples)
+  {
+    const int stride = shCoefficientCount(k);
+    directions.resize(count);
+    basis.resize(std::size_t(count) * stride);
+    for (int l = 0; l < count; ++l)
+    {
+      // Glyphs are point symmetric: the upper hemisphere sees every extent.
+      directions[l] = detail::fibonacciDirection(l, count, true);
+      evaluateSH<double>(k, directions[l].x, directions[l].y, directions[l].z,
+        basis.data() + std::size_t(l) * stride);
+    }
+  }
+};
+
+/// The box search's directions: k * 256, as the paper validated.
+const FibonacciTable& fibonacciTable(int order)
+{
+  static std::unique_ptr<FibonacciTable> tables[kOrderSlots];
+  static std::once_flag flags[kOrderSlots];
+  std::call_once(flags[order / 2],
+    [order] { tables[order / 2] = std::make_unique<FibonacciTable>(order, 256 * std::max(order, 1)); });
+  return *tables[order / 2];
+}
+
+/// Coarser directions for the largest amplitude, which Newton's method then refines: about
+/// four samples across the narrowest lobe (angular width ~ pi / k) suffice to land in its basin.
+const FibonacciTable& peakSearchTable(int order)
+{
+  static std::unique_ptr<FibonacciTable> tables[kOrderSlots];
+  static std::once_flag flags[kOrderSlots];
+  std::call_once(flags[order / 2], [order]
+    { tables[order / 2] = std::make_unique<FibonacciTable>(order, 64 + 6 * (order + 1) * (order + 1)); });
+  return *tables[order / 2];
+}
+
+void checkGlyphOrder(int order)
+{
+  if (order < 0 || order > kMaxGlyphOrder || order % 2 != 0)
+    throw std::invalid_argument("glyph order " + std::to_string(order) +
+      " is not an even number in [0, " + std::to_string(kMaxGlyphOrder) + "]");
+}
+
+/// Largest |coordinate `axis`| of F(w) w near the direction w0, by Newton's method on the
+/// tangency conditions with p[axis] held at 1 (the paper's formulation, Section 4.2):
+///   n~(w) = F w - (I - w w^T) grad F = 0 in the two other components.
+double refineExtent(int order, const double* b, dvec3 w0, int axis, double best)
+{
+  if (w0[axis] < 0.0)
+    w0 = -w0;
+  if (w0[axis] <= 1e-12)
+    return best;
+  dvec3 p = w0 / w0[axis];
+  const int i0 = (axis + 1) % 3, i1 = (axis + 2) % 3;
+  for (int iteration = 0; iteration < 5; ++iteration)
+  {
+    const double r = glm::length(p);
+    const dvec3 w = p / r;
+    const SHFunctionValue<double> f = evaluateSHFunction<double>(order, b, w.x, w.y, w.z, true);
+    const dvec3 grad(f.gradient[0], f.gradient[1], f.gradient[2]);
+    const auto& hs = f.hessian;
+    const glm::dmat3 H(hs[0], hs[1], hs[2], hs[1], hs[3], hs[4], hs[2], hs[4], hs[5]);
+    const double wg = glm::dot(w, grad);
+    const dvec3 n = f.value * w - grad + w * wg;
+    // dn/dw = (F + w.g) I - H + w (2 g + H w)^T ; dw/dp = (I - w w^T) / r.
+    const glm::dmat3 dndw = (f.value + wg) * glm::dmat3(1.0) - H + glm::outerProduct(w, 2.0 * grad + H * w);
+    const glm::dmat3 dwdp = (glm::dmat3(1.0) - glm::outerProduct(w, w)) / r;
+    const glm::dmat3 J = dndw * dwdp; // J[column][row]
+    const double a = J[i0][i0], bq = J[i1][i0], c = J[i0][i1], d = J[i1][i1];
+    const double det = a * d - bq * c;
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det))
+      break;
+    const double r0 = -n[i0], r1 = -n[i1];
+    p[i0] += (d * r0 - bq * r1) / det;
+    p[i1] += (a * r1 - c * r0) / det;
+    if (!isFinite(vec3(p)))
+      break;
+    const dvec3 wn = glm::normalize(p);
+    const double extent = std::abs(evaluateSHSum<double>(order, b, wn.x, wn.y, wn.z) * wn[axis]);
+    if (extent > best)
+      best = extent;
+  }
+  return best;
+}
+} // namespace
+
+template <class T>
+int intersectSHGlyph(int order, const T* coefficients, const T origin[3], const T direction[3],
+  T tmin, T tmax, T tolerance, T* t, bool firstOnly)
+{
+  switch (order)
+  {
+#define SIGHTLINE_GLYPH_ORDER(K)                                                                     \
+  case K:                                                                                          \
+    return intersectOrder<K, T>(coefficients, origin, direction, tmin, tmax, tolerance, t, firstOnly);
+    SIGHTLINE_GLYPH_ORDER(0)
+    SIGHTLINE_GLYPH_ORDER(2)
+    SIGHTLINE_GLYPH_ORDER(4)
+    SIGHTLINE_GLYPH_ORDER(6)
+    SIGHTLINE_GLYPH_ORDER(8)
+    SIGHTLINE_GLYPH_ORDER(10)
+    SIGHTLINE_GLYPH_ORDER(12)
+    SIGHTLINE_GLYPH_ORDER(14)
+    SIGHTLINE_GLYPH_ORDER(16)
+#undef SIGHTLINE_GLYPH_ORDER
+    default:
+      checkGlyphOrder(order);
+      return 0;
+  }
+}
+
+template int intersectSHGlyph<float>(
+  int, const float*, const float[3], const float[3], float, float, float, float*, bool);
+template int intersectSHGlyph<double>(
+  int, const double*, const double[3], const double[3], double, double, double, double*, bool);
+
+dvec3 shGlyphNormal(int order, const double* b, const dvec3& p, double* value)
+{
+  const double r = glm::length(p);
+  if (!(r > 0.0))
+    return dvec3(0.0);
+  const dvec3 w = p / r;
+  const SHFunctionValue<double> f = evaluateSHFunction<double>(order, b, w.x, w.y, w.z, false);
+  const dvec3 grad(f.gradient[0], f.gradient[1], f.gradient[2]);
+  if (value)
+    *value = f.value;
+  return p - f.value * (grad - w * glm::dot(w, grad)) / r;
+}
+
+bool insideSHGlyph(int order, const double* b, const dvec3& p)
+{
+  const double r = glm::length(p);
+  if (!(r > 0.0))
+    return true;
+  const dvec3 w = p / r;
+  return r < std::abs(evaluateSHSum<double>(order, b, w.x, w.y, w.z));
+}
+
+dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = fibonacciTable(order);
+  const int stride = shCoefficientCount(order);
+  dvec3 best(0.0);
+  int bestIndex[3] = { 0, 0, 0 };
+  const double* row = table.basis.data();
+  for (int l = 0; l < table.count; ++l, row += stride)
+  {
+    double value = 0.0;
+    for (int j = 0; j < stride; ++j)
+      value += b[j] * row[j];
+    const dvec3 point = glm::abs(value * table.directions[l]);
+    for (int axis = 0; axis < 3; ++axis)
+      if (point[axis] > best[axis])
+      {
+        best[axis] = point[axis];
+        bestIndex[axis] = l;
+      }
+  }
+  if (order == 0) // a sphere: its extent is known exactly
+    return dvec3(std::abs(b[0]) * 0.5 / std::sqrt(kPi));
+  for (int axis = 0; axis < 3; ++axis)
+    best[axis] = refineExtent(order, b, table.directions[bestIndex[axis]], axis, best[axis]);
+  return best;
+}
+
+dvec3 shGlyphHalfExtents(int order, const double* b)
+{
+  const double margin = order <= 8 ? 1.025 : 1.035;
+  return margin * shGlyphHalfExtentsUnpadded(order, b);
+}
+
+namespace
+{
+/// Climbs from the direction w (where |F| = best) to the top of its peak and returns |F| there.
+double refinePeak(int order, const double* b, dvec3 w, double best, double sampleSpacing)
+{
+  // Newton's method on the sphere for the extremum of s F (s the sign of F at the sample):
+  // Riemannian gradient P g and Hessian P H P - (w.g) P with P = I - w w^T, in a tangent basis.
+  // A step is kept only when |F| grows, so the result is never worse than the sample.
+  bool converged = false;
+  for (int iteration = 0; iteration < 8 && !converged; ++iteration)
+  {
+    const SHFunctionValue<double> f = evaluateSHFunction<double>(order, b, w.x, w.y, w.z, true);
+    const double sign = f.value < 0.0 ? -1.0 : 1.0;
+    const dvec3 g = sign * dvec3(f.gradient[0], f.gradient[1], f.gradient[2]);
+    const auto& h = f.hessian;
+    const glm::dmat3 H = sign * glm::dmat3(h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5]);
+    const dvec3 u = glm::normalize(glm::cross(w, std::abs(w.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
+    const dvec3 v = glm::cross(w, u);
+    const double wg = glm::dot(w, g);
+    const double huu = glm::dot(u, H * u) - wg, huv = glm::dot(u, H * v), hvv = glm::dot(v, H * v) - wg;
+    const double gu = glm::dot(u, g), gv = glm::dot(v, g);
+    const double det = huu * hvv - huv * huv;
+    if (!(huu < 0.0 && det > 0.0)) // outside the peak's concave basin: compass search below
+      break;
+    const double su = -(hvv * gu - huv * gv) / det, sv = -(huu * gv - huv * gu) / det;
+    converged = su * su + sv * sv < 1e-16;
+    const dvec3 candidate = glm::normalize(w + su * u + sv * v);
+    const double value = std::abs(evaluateSHSum<double>(order, b, candidate.x, candidate.y, candidate.z));
+    if (!(value > best))
+      break;
+    best = value;
+    w = candidate;
+  }
+  if (converged)
+    return best;
+  // A sharp lobe between samples: a compass search (four tangent steps, halved when none
+  // improves) climbs to it where Newton's quadratic model does not hold.
+  const auto amplitude = [&](const dvec3& x) { return std::abs(evaluateSHSum<double>(order, b, x.x, x.y, x.z)); };
+  dvec3 u = glm::normalize(glm::cross(w, std::abs(w.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
+  for (double step = 2.0 * sampleSpacing; step > 1e-5;)
+  {
+    const dvec3 v = glm::cross(w, u);
+    bool moved = false;
+    for (const dvec3& t : { u, -u, v, -v })
+    {
+      const dvec3 candidate = glm::normalize(w + step * t);
+      const double value = amplitude(candidate);
+      if (value > best)
+      {
+        best = value;
+        w = candidate;
+        moved = true;
+        break;
+      }
+    }
+    if (!moved)
+      step *= 0.5;
+    u = glm::normalize(u - glm::dot(u, w) * w);
+  }
+  return best;
+}
+} // namespace
+
+double shGlyphMaxRadius(int order, const double* b)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = peakSearchTable(order);
+  const int stride = shCoefficientCount(order);
+  // The few best samples that lie on different peaks (not within ~17 degrees of each other or
+  // of the antipode): two lobes of nearly equal height must both be climbed.
+  constexpr int kCandidates = 4;
+  const double sameLobe = 0.955;
+  int candidate[kCandidates];
+  double height[kCandidates];
+  int found = 0;
+  const double* row = table.basis.data();
+  for (int l = 0; l < table.count; ++l, row += stride)
+  {
+    double value = 0.0;
+    for (int j = 0; j < stride; ++j)
+      value += b[j] * row[j];
+    value = std::abs(value);
+    if (found == kCandidates && value <= height[kCandidates - 1])
+      continue;
+    int near = -1;
+    for (int c = 0; c < found && near < 0; ++c)
+      if (std::abs(glm::dot(table.directions[l], table.directions[candidate[c]])) > sameLobe)
+        near = c;
+    if (near >= 0 && value <= height[near])
+      continue;
+    int slot = near >= 0 ? near : (found < kCandidates ? found++ : kCandidates - 1);
+    for (; slot > 0 && height[slot - 1] < value; --slot) // keep the list sorted, best first
+    {
+      height[slot] = height[slot - 1];
+      candidate[slot] = candidate[slot - 1];
+    }
+    height[slot] = value;
+    candidate[slot] = l;
+  }
+  if (found == 0 || order == 0 || !(height[0] > 0.0))
+    return found ? std::max(height[0], 0.0) : 0.0;
+  const double spacing = std::sqrt(4.0 * kPi / table.count);
+  double best = 0.0;
+  for (int c = 0; c < found; ++c)
+    if (height[c] > 0.8 * height[0])
+      best = std::max(best, refinePeak(order, b, table.directions[candidate[c]], height[c], spacing));
+  return best;
+}
+
+double shGlyphBoundingRadius(int order, const double* b)
+{
+  // |sum_m b_lm Y_lm| <= |b_l| sqrt(sum_m Y_lm^2) = |b_l| sqrt((2l + 1) / 4 pi) by the
+  // addition theorem.
+  double radius = 0.0;
+  for (int l = 0; l <= order; l += 2)
+  {
+    double norm2 = 0.0;
+    for (int m = -l; m <= l; ++m)
+      norm2 += b[shIndex(l, m)] * b[shIndex(l, m)];
+    radius += std::sqrt(norm2 * (2 * l + 1) / (4.0 * kPi));
+  }
+  return radius;
+}
+
+int shEffectiveOrder(int order, const double* b)
+{
+  for (int l = order; l > 0; l -= 2)
+    for (int m = -l; m <= l; ++m)
+      if (b[shIndex(l, m)] != 0.0)
+        return l;
+  return 0;
+}
+} // namespace sightline

@@ -1,0 +1,199 @@
+#include "sightline/volumes/GridTraversal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace sightline
+{
+namespace traversal
+{
+void checkBreakpoints(const std::vector<double>& v, const char* owner, const char* name)
+{
+  const std::string who = std::string("sightline::") + owner + ": ";
+  if (v.size() < 2)
+    throw std::invalid_argument(who + name + " needs at least 2 breakpoints, got " + std::to_string(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i)
+  {
+    if (!std::isfinite(v[i]))
+      throw std::invalid_argument(who + name + " breakpoint " + std::to_string(i) + " is not finite");
+    if (i > 0 && !(v[i] > v[i - 1]))
+      throw std::invalid_argument(who + name + " breakpoints are not strictly increasing at " +
+        std::to_string(i) + " (" + std::to_string(v[i - 1]) + ", " + std::to_string(v[i]) + ")");
+  }
+}
+
+bool spansFullCircle(const std::vector<double>& azimuth)
+{
+  return std::abs((azimuth.back() - azimuth.front()) - kTwoPi) <= 1e-12 * kTwoPi;
+}
+
+void clampAscending(std::vector<Transition>& list, double tmin, double tmax)
+{
+  double previous = tmin;
+  for (Transition& x : list)
+  {
+    x.t = std::min(tmax, std::max(previous, x.t));
+    previous = x.t;
+  }
+}
+
+int radialTransitions(const std::vector<double>& radius, const std::vector<double>& radiusSquared,
+  double tClosest, double closestDistance, double dd, double tmin, double tmax, double startSquared,
+  double endSquared, std::vector<Transition>& out)
+{
+  auto index = [&](double r2)
+  { return int(std::upper_bound(radiusSquared.begin(), radiusSquared.end(), r2) - radiusSquared.begin()) - 1; };
+  auto halfChordOf = [&](double r)
+  { return std::sqrt(std::max(0.0, (r - closestDistance) * (r + closestDistance)) / dd); };
+  const int first = index(startSquared);
+  const int last = index(endSquared);
+  // The lowest shell: at the hinge when it lies inside [tmin, tmax], else at whichever end is
+  // nearer to it (a ray ending before its closest approach only falls).
+  const int lowest = tClosest <= tmin ? first : tClosest >= tmax ? last : index(closestDistance * closestDistance);
+  for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
+    out.push_back({ tClosest - halfChordOf(radius[std::size_t(i)]), i - 1 });
+  for (int i = lowest; i < last; ++i) // rising: leave shell i through r_{i+1}
+    out.push_back({ tClosest + halfChordOf(radius[std::size_t(i + 1)]), i + 1 });
+  clampAscending(out, tmin, tmax);
+  return first;
+}
+
+AzimuthSweep::AzimuthSweep(const std::vector<double>& azimuth)
+  : Azimuth(azimuth)
+  , FullCircle(spansFullCircle(azimuth))
+{
+  for (double phi : Azimuth)
+    HalfPlanes.push_back(dvec3(std::cos(phi), std::sin(phi), phi));
+}
+
+int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, double tmax,
+  const dvec3& start, const dvec3& end, std::vector<Transition>& out) const
+{
+  const int azimuthCount = int(HalfPlanes.size());
+  thread_local std::vector<std::pair<double, int>> crossings; // (unwrapped angle, breakpoint)
+  const double phi0 = HalfPlanes.front().z;
+  auto unwrap = [&](const dvec3& x)
+  {
+    double phi = std::atan2(x.y, x.x);
+    phi = phi0 + std::fmod(std::fmod(phi - phi0, kTwoPi) + kTwoPi, kTwoPi); // in [phi0, phi0 + 2 pi)
+    return phi;
+  };
+  auto azimuthIndex = [&](double phi)
+  {
+    const int k = int(std::upper_bound(Azimuth.begin(), Azimuth.end(), phi) - Azimuth.begin()) - 1;
+    if (k >= azimuthCount - 1)
+      return FullCircle ? azimuthCount - 2 : -1;
+    return k;
+  };
+  int azimuthStart = 0;
+  {
+    const double turn = p.x * d.y - p.y * d.x; // (p x d).z
+    const double dxy = d.x * d.x + d.y * d.y;
+    const double scaleXY = std::sqrt((p.x * p.x + p.y * p.y) * dxy);
+    const bool throughAxis = dxy > 0.0 && std::abs(turn) <= 1e-14 * scaleXY;
+    const double tAxis = dxy > 0.0 ? -(p.x * d.x + p.y * d.y) / dxy : 0.0;
+    // A line through the z axis has azimuth atan2(-d) before the axis and atan2(d) after it,
+    // exactly, whatever rounding leaves of the points next to the axis. A vertical line keeps
+    // its azimuth (0 by convention on the axis itself).
+    double phiStart;
+    if (throughAxis)
+      phiStart = tAxis > tmin ? unwrap(-d) : unwrap(d);
+    else
+      phiStart = unwrap(start);
+    azimuthStart = azimuthIndex(phiStart);
+    if (dxy > 0.0)
+    {
+      double phiEnd;
+      bool rising;
+      if (throughAxis)
+      {
+        rising = true; // the jump by pi, taken as a rise
+        phiEnd = tAxis > tmin && tAxis < tmax ? phiStart + kPi : phiStart;
+      }
+      else
+      {
+        rising = turn > 0.0;
+        double phiEndRaw = unwrap(end);
+        // The sweep is under pi: unwrap the end next to the start, in the sweep's direction.
+        if (rising && phiEndRaw < phiStart)
+          phiEndRaw += kTwoPi;
+        if (!rising && phiEndRaw > phiStart)
+          phiEndRaw -= kTwoPi;
+        phiEnd = phiEndRaw;
+      }
+      // Boundaries strictly between the two azimuths, in sweep order, as unwrapped angles.
+      int index = azimuthStart;
+      crossings.clear();
+      // The half-planes' angles over three laps, phi_k + lap 2 pi (the full circle's last
+      // breakpoint is its first), form one increasing sequence: binary search for the first
+      // one past the start, then walk in the sweep's direction to the end.
+      const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
+      auto angleOf = [&](int v) { return Azimuth[std::size_t(v % perLap)] + (v / perLap - 1) * kTwoPi; };
+      int lo = 0, hi = 3 * perLap; // first v with angle > phiStart
+      while (lo < hi)
+      {
+        const int mid = (lo + hi) / 2;
+        if (angleOf(mid) > phiStart)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      // A start exactly on phi_k counts as wedge k: rising it stays, falling it leaves.
+      if (rising)
+        for (int v = lo; v < 3 * perLap && angleOf(v) <= phiEnd; ++v)
+          crossings.push_back({ angleOf(v), v % perLap });
+      else
+        for (int v = lo - 1; v >= 0 && angleOf(v) >= phiEnd; --v)
+          crossings.push_back({ angleOf(v), v % perLap });
+      for (const auto& crossing : crossings)
+      {
+        const int k = crossing.second;
+        const dvec3& h = HalfPlanes[std::size_t(k)];
+        double t = tAxis;
+        if (!throughAxis)
+        {
+          const double denominator = d.y * h.x - d.x * h.y;
+          t = denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
+        }
+        // Rising through phi_k enters wedge k; falling through it enters wedge k - 1.
+        if (rising)
+          index = (k == azimuthCount - 1) ? -1 : k;
+        else
+          index = k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1;
+        out.push_back({ t, index });
+      }
+      clampAscending(out, tmin, tmax);
+    }
+  }
+  return azimuthStart;
+}
+
+void mergeTransitions(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
+  double tmin, double tmax, std::vector<CellSegment>& out)
+{
+  // A sentinel at +infinity ends each list, so the loop needs no bounds checks.
+  constexpr double kEnd = std::numeric_limits<double>::infinity();
+  for (int list = 0; list < 3; ++list)
+    lists[list]->push_back({ kEnd, 0 });
+  const Transition* next[3] = { lists[0]->data(), lists[1]->data(), lists[2]->data() };
+  int index[3] = { first[0], first[1], first[2] };
+  double t0 = tmin;
+  for (;;)
+  {
+    const int which = next[0]->t <= next[1]->t ? (next[0]->t <= next[2]->t ? 0 : 2) : (next[1]->t <= next[2]->t ? 1 : 2);
+    const double t1 = next[which]->t == kEnd ? tmax : next[which]->t;
+    if (t1 > t0 && unsigned(index[0]) < unsigned(counts[0]) && unsigned(index[1]) < unsigned(counts[1]) &&
+      unsigned(index[2]) < unsigned(counts[2]))
+      out.push_back({ index[0], index[1], index[2], t0, t1 });
+    t0 = std::max(t0, t1);
+    if (next[which]->t == kEnd)
+      break;
+    index[which] = next[which]->index;
+    ++next[which];
+  }
+}
+} // namespace traversal
+} // namespace sightline

@@ -1,0 +1,67 @@
+// Pieces shared by the spherical and cylindrical traversals (SphericalGrid.h,
+// CylindricalGrid.h): index transitions along a ray for a radius measured from a point or an
+// axis (ditone: one hinge at the closest approach), for azimuth half-planes around the z axis
+// (monotone), and the linear merge of three sorted transition lists into cell segments.
+// Private to the kernel.
+#pragma once
+
+#include "sightline/math/Math.h"
+#include "sightline/volumes/SphericalGrid.h"
+
+#include <vector>
+
+namespace sightline
+{
+namespace traversal
+{
+
+/// Throws std::invalid_argument (naming `owner` and `name`) for fewer than 2 breakpoints, NaN
+/// or infinite ones, or breakpoints that are not strictly increasing.
+void checkBreakpoints(const std::vector<double>& v, const char* owner, const char* name);
+
+/// Whether azimuth breakpoints span the full circle (2 pi to 1e-12).
+bool spansFullCircle(const std::vector<double>& azimuth);
+
+/// A crossing where one coordinate's index changes.
+struct Transition
+{
+  double t;
+  int index; ///< the index after the crossing
+};
+
+/// Keeps the list's t ascending and inside [tmin, tmax] (rounding near hinges may swap
+/// neighbours by an ulp).
+void clampAscending(std::vector<Transition>& list, double tmin, double tmax);
+
+/// Shells between radii (from the origin or from the z axis). The ray's squared distance is
+/// closestDistance^2 + dd (t - tClosest)^2; crossings use (R - c)(R + c) for the half chord.
+/// Fills the transitions inside [tmin, tmax] and returns the index at tmin (-1 below the first
+/// radius, n - 1 at or beyond the last).
+int radialTransitions(const std::vector<double>& radius, const std::vector<double>& radiusSquared,
+  double tClosest, double closestDistance, double dd, double tmin, double tmax, double startSquared,
+  double endSquared, std::vector<Transition>& out);
+
+/// Wedges between half-planes through the z axis at the azimuth breakpoints.
+class AzimuthSweep
+{
+public:
+  explicit AzimuthSweep(const std::vector<double>& azimuth);
+  bool fullCircle() const { return FullCircle; }
+  /// Fills the transitions of the ray (p + t d, t in [tmin, tmax], from `start` to `end`) and
+  /// returns the wedge index at tmin (-1 outside a section's wedges).
+  int transitions(const dvec3& p, const dvec3& d, double tmin, double tmax, const dvec3& start,
+    const dvec3& end, std::vector<Transition>& out) const;
+
+private:
+  std::vector<double> Azimuth;
+  std::vector<dvec3> HalfPlanes; ///< (cos phi_k, sin phi_k, phi_k)
+  bool FullCircle = false;
+};
+
+/// Merges three ascending transition lists into the segments of cells whose three indices are
+/// all inside [0, counts[i]), emitted as CellSegment{ index 0, index 1, index 2 }. Appends a
+/// sentinel to each list.
+void mergeTransitions(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
+  double tmin, double tmax, std::vector<CellSegment>& out);
+} // namespace traversal
+} // namespace sightline

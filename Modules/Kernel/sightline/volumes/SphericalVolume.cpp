@@ -1,0 +1,481 @@
+#include "sightline/volumes/SphericalVolume.h"
+
+#include "sightline/volumes/SphericalFields.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace sightline
+{
+namespace
+{
+// What the renderer needs from a kind of grid: its traversal, the value index of a segment's
+// cell, and the radius of the outermost shell holding a visible cell, to clip rays to (a sphere
+// for spherical grids, a cylinder around z for cylindrical ones).
+struct SphericalCells
+{
+  const SphericalTraversal& traversal;
+  std::size_t index(const CellSegment& s) const { return traversal.grid().cellIndex(s.r, s.theta, s.phi); }
+  const std::vector<double>& radii() const { return traversal.grid().radius; }
+  std::size_t cellCount() const { return traversal.grid().cellCount(); }
+  bool visibleShell(const std::vector<TransferSample>& cells, int i) const
+  {
+    const SphericalGrid& g = traversal.grid();
+    for (int k = 0; k < g.azimuthalCells(); ++k)
+      for (int j = 0; j < g.polarCells(); ++j)
+        if (cells[g.cellIndex(i, j, k)].extinction > 0.0)
+          return true;
+    return false;
+  }
+  bool clip(const dvec3& o, const dvec3& d, double radius, double t0, double t1, double& enter, double& leave) const
+  {
+    return sphereChord(o, d, radius, t0, t1, enter, leave);
+  }
+};
+
+struct CylindricalCells
+{
+  const CylindricalTraversal& traversal;
+  std::size_t index(const CellSegment& s) const { return traversal.grid().cellIndex(s.r, s.phi, s.theta); }
+  const std::vector<double>& radii() const { return traversal.grid().radius; }
+  std::size_t cellCount() const { return traversal.grid().cellCount(); }
+  bool visibleShell(const std::vector<TransferSample>& cells, int i) const
+  {
+    const CylindricalGrid& g = traversal.grid();
+    for (int k = 0; k < g.heightCells(); ++k)
+      for (int j = 0; j < g.azimuthalCells(); ++j)
+        if (cells[g.cellIndex(i, j, k)].extinction > 0.0)
+          return true;
+    return false;
+  }
+  bool clip(const dvec3& o, const dvec3& d, double radius, double t0, double t1, double& enter, double& leave) const
+  {
+    const double a = d.x * d.x + d.y * d.y;
+    enter = t0;
+    leave = t1;
+    if (a == 0.0)
+      return std::hypot(o.x, o.y) < radius && t0 < t1;
+    const double tc = -(o.x * d.x + o.y * d.y) / a;
+    const double c = std::hypot(o.x + tc * d.x, o.y + tc * d.y);
+    if (!(c < radius))
+      return false;
+    const double half = std::sqrt((radius - c) * (radius + c) / a);
+    enter = std::max(t0, tc - half);
+    leave = std::min(t1, tc + half);
+    return enter < leave;
+  }
+};
+
+// Empty space: the radius of the outermost shell with a visible cell (-1 when none is).
+template <class Cells>
+double visibleRadiusOf(const Cells& grid, const std::vector<TransferSample>& cells)
+{
+  for (int i = int(grid.radii().size()) - 2; i >= 0; --i)
+    if (grid.visibleShell(cells, i))
+      return grid.radii()[std::size_t(i) + 1];
+  return -1.0;
+}
+
+/// Traces every pixel: rays clipped to the visible radius (nothing traced when it is < 0) and
+/// to the depth limit, traversed, and composited by `composite(origin, direction, segments,
+/// &first, &count)` into premultiplied RGBA.
+template <class Cells, class Composite>
+SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, const Composite& composite,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options, const char* who)
+{
+  const auto start = std::chrono::steady_clock::now();
+  framebuffer.resize(camera.width(), camera.height());
+  if (options.depthLimit && options.depthLimit->size() != framebuffer.pixelCount())
+    throw std::invalid_argument(std::string("sightline::") + who + ": the depth limit has " +
+      std::to_string(options.depthLimit->size()) + " values for " + std::to_string(framebuffer.pixelCount()) + " pixels");
+  SphericalVolumeStatistics stats;
+  if (visibleRadius < 0.0)
+  {
+    if (options.progress)
+      options.progress(1.0);
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+  }
+
+  // Bands of rows one after another, so that progress is reported and a cancel takes effect.
+  const int bands = options.progress ? std::min(camera.height(), 16) : 1;
+  tbb::combinable<std::size_t> visited([] { return std::size_t(0); });
+  for (int band = 0; band < bands; ++band)
+  {
+    const int firstRow = int(std::int64_t(camera.height()) * band / bands);
+    const int endRow = int(std::int64_t(camera.height()) * (band + 1) / bands);
+    tbb::parallel_for(tbb::blocked_range<int>(firstRow, endRow),
+      [&](const tbb::blocked_range<int>& rows)
+      {
+        std::vector<CellSegment> segments;
+        std::size_t count = 0;
+        for (int y = rows.begin(); y < rows.end(); ++y)
+          for (int x = 0; x < camera.width(); ++x)
+          {
+            const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+            const dvec3 o(ray.origin), d(ray.direction);
+            double tmax = ray.tfar;
+            const std::size_t i = framebuffer.index(x, y);
+            if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
+              tmax = camera.primaryRayParameterAt(x + 0.5, y + 0.5, (*options.depthLimit)[i]);
+            double enter, leave;
+            if (!grid.clip(o, d, visibleRadius, ray.tnear, tmax, enter, leave))
+              continue;
+            grid.traversal.traverse(o, d, enter, leave, segments);
+            double first = -1.0;
+            const vec4 rgba = composite(o, d, segments, &first, &count);
+            if (!(rgba.a > 0.0f))
+              continue;
+            framebuffer.Color[i] = vec4(vec3(rgba) / rgba.a, rgba.a);
+            const dvec3 front = o + first * d;
+            framebuffer.Depth[i] = float(std::clamp(camera.windowDepth(front), 0.0, 1.0));
+            framebuffer.Distance[i] = float(first);
+          }
+        visited.local() += count;
+      });
+    if (options.progress && !options.progress(double(band + 1) / bands))
+      break;
+  }
+  stats.cellsVisited = visited.combine([](std::size_t a, std::size_t b) { return a + b; });
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+double centreOf(const std::vector<double>& b, int i)
+{
+  return 0.5 * (b[std::size_t(i)] + b[std::size_t(i) + 1]);
+}
+
+// d value / d coordinate between the neighbours of cell i along an axis of n cells with
+// breakpoints b: central differences, one-sided at a section's edges, across the seam of a
+// full circle.
+template <class ValueAt>
+double centralDifference(int i, int n, bool periodic, const std::vector<double>& b, const ValueAt& valueAt)
+{
+  if (n < 2)
+    return 0.0;
+  int lo = i - 1, hi = i + 1;
+  double clo, chi;
+  if (periodic)
+  {
+    const double span = b.back() - b.front();
+    clo = lo < 0 ? centreOf(b, n - 1) - span : centreOf(b, lo);
+    chi = hi >= n ? centreOf(b, 0) + span : centreOf(b, hi);
+    lo = (lo + n) % n;
+    hi = hi % n;
+  }
+  else
+  {
+    lo = std::max(lo, 0);
+    hi = std::min(hi, n - 1);
+    clo = centreOf(b, lo);
+    chi = centreOf(b, hi);
+  }
+  return (valueAt(hi) - valueAt(lo)) / (chi - clo);
+}
+
+void checkValueCount(std::size_t values, std::size_t cells, const char* who)
+{
+  if (values != cells)
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(values) +
+      " values for " + std::to_string(cells) + " cells");
+}
+} // namespace
+
+SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
+  const std::vector<double>& values, const std::function<TransferSample(double)>& transfer,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+{
+  checkValueCount(values.size(), traversal.grid().cellCount(), "renderSphericalVolume");
+  // The transfer function once per cell, not once per ray and cell.
+  std::vector<TransferSample> cells(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    cells[i] = transfer(values[i]);
+  return renderSphericalVolume(traversal, cells, camera, framebuffer, options);
+}
+
+namespace
+{
+template <class Cells>
+SphericalVolumeStatistics renderCellData(const Cells& grid, const std::vector<TransferSample>& cells,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options, const char* who)
+{
+  if (cells.size() != grid.cellCount())
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(cells.size()) +
+      " cell samples for " + std::to_string(grid.cellCount()) + " cells");
+  return renderCells(grid, visibleRadiusOf(grid, cells),
+    [&](const dvec3&, const dvec3&, const std::vector<CellSegment>& segments, double* first, std::size_t* count)
+    {
+      return compositeCells([&](const CellSegment& c) -> const TransferSample& { return cells[grid.index(c)]; },
+        segments, 1.0, options.minimumTransmittance, first, count);
+    },
+    camera, framebuffer, options, who);
+}
+
+// Trilinear weights of a coordinate inside [b_i, b_{i+1}], clamped against rounding.
+double weightIn(const std::vector<double>& b, int i, double x)
+{
+  return std::clamp((x - b[std::size_t(i)]) / (b[std::size_t(i) + 1] - b[std::size_t(i)]), 0.0, 1.0);
+}
+
+double unwrapAzimuth(double phi, double phi0)
+{
+  return phi0 + std::fmod(std::fmod(phi - phi0, kTwoPi) + kTwoPi,
+                  kTwoPi);
+}
+
+// Point data through a cell-segment traversal: `valueAt(segment, point)` interpolates the
+// point values inside the segment's cell.
+template <class Cells, class ValueAt>
+SphericalVolumeStatistics renderPointData(const Cells& grid, const ValueAt& valueAt,
+  const TransferTable& transfer, double sampleDistance, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options, const char* who)
+{
+  if (!(sampleDistance > 0.0))
+    throw std::invalid_argument(std::string("sightline::") + who + ": the sample distance must be positive, got " +
+      std::to_string(sampleDistance));
+  if (transfer.entries.empty())
+    throw std::invalid_argument(std::string("sightline::") + who + ": the transfer table is empty");
+  return renderCells(grid, grid.radii().back(),
+    [&](const dvec3& o, const dvec3& d, const std::vector<CellSegment>& segments, double* first, std::size_t* count)
+    {
+      dvec3 color(0.0);
+      double transmittance = 1.0;
+      *first = -1.0;
+      const double dl = glm::length(d);
+      for (const CellSegment& s : segments)
+      {
+        const double length = (s.t1 - s.t0) * dl;
+        const int samples = std::max(1, int(std::ceil(length / sampleDistance)));
+        const double step = (s.t1 - s.t0) / samples;
+        ++*count;
+        for (int k = 0; k < samples; ++k)
+        {
+          const double t = s.t0 + (k + 0.5) * step;
+          const double v = valueAt(s, o + t * d);
+          if (std::isnan(v))
+            continue;
+          const TransferSample sample = transfer(v);
+          if (!(sample.extinction > 0.0))
+            continue;
+          if (*first < 0.0)
+            *first = s.t0 + k * step;
+          const double absorbed = 1.0 - std::exp(-sample.extinction * step * dl);
+          color += transmittance * absorbed * dvec3(sample.color);
+          transmittance *= 1.0 - absorbed;
+        }
+        if (transmittance < options.minimumTransmittance)
+          break;
+      }
+      return vec4(vec3(color), float(1.0 - transmittance));
+    },
+    camera, framebuffer, options, who);
+}
+
+void checkPointCount(std::size_t values, std::size_t points, const char* who)
+{
+  if (values != points)
+    throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(values) +
+      " point values for " + std::to_string(points) + " points");
+}
+} // namespace
+
+TransferSample TransferTable::operator()(double value) const
+{
+  const std::size_t n = entries.size();
+  if (n == 1 || !(maximum > minimum))
+    return entries.front();
+  const double x = std::clamp((value - minimum) / (maximum - minimum), 0.0, 1.0) * double(n - 1);
+  const std::size_t i = std::min(std::size_t(x), n - 2);
+  const double w = x - double(i);
+  TransferSample s;
+  s.color = glm::mix(entries[i].color, entries[i + 1].color, float(w));
+  s.extinction = (1.0 - w) * entries[i].extinction + w * entries[i + 1].extinction;
+  return s;
+}
+
+SphericalVolumeStatistics renderSphericalVolume(const SphericalTraversal& traversal,
+  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options)
+{
+  return renderCellData(SphericalCells{ traversal }, cells, camera, framebuffer, options, "renderSphericalVolume");
+}
+
+SphericalVolumeStatistics renderCylindricalVolume(const CylindricalTraversal& traversal,
+  const std::vector<TransferSample>& cells, const Camera& camera, Framebuffer& framebuffer,
+  const SphericalVolumeOptions& options)
+{
+  return renderCellData(CylindricalCells{ traversal }, cells, camera, framebuffer, options, "renderCylindricalVolume");
+}
+
+SphericalVolumeStatistics renderSphericalVolumePoints(const SphericalTraversal& traversal,
+  const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+{
+  const SphericalGrid& g = traversal.grid();
+  const std::size_t nr = g.radius.size(), nt = g.polar.size();
+  checkPointCount(pointValues.size(), nr * nt * g.azimuth.size(), "renderSphericalVolumePoints");
+  const double phi0 = g.azimuth.front();
+  auto valueAt = [&](const CellSegment& s, const dvec3& x)
+  {
+    const double r = glm::length(x);
+    const double theta = r > 0.0 ? std::acos(std::clamp(x.z / r, -1.0, 1.0)) : g.polar[std::size_t(s.theta)];
+    const double phi = unwrapAzimuth(std::atan2(x.y, x.x), phi0);
+    const double wr = weightIn(g.radius, s.r, r), wt = weightIn(g.polar, s.theta, theta),
+                 wp = weightIn(g.azimuth, s.phi, phi);
+    double v = 0.0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
+      const double w = (a ? wr : 1.0 - wr) * (b ? wt : 1.0 - wt) * (c ? wp : 1.0 - wp);
+      if (w > 0.0)
+        v += w * pointValues[std::size_t(s.r + a) + nr * (std::size_t(s.theta + b) + nt * std::size_t(s.phi + c))];
+    }
+    return v;
+  };
+  return renderPointData(SphericalCells{ traversal }, valueAt, transfer, sampleDistance, camera, framebuffer,
+    options, "renderSphericalVolumePoints");
+}
+
+SphericalVolumeStatistics renderCylindricalVolumePoints(const CylindricalTraversal& traversal,
+  const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
+  const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options)
+{
+  const CylindricalGrid& g = traversal.grid();
+  const std::size_t nr = g.radius.size(), np = g.azimuth.size();
+  checkPointCount(pointValues.size(), nr * np * g.height.size(), "renderCylindricalVolumePoints");
+  const double phi0 = g.azimuth.front();
+  auto valueAt = [&](const CellSegment& s, const dvec3& x)
+  {
+    const double rho = std::hypot(x.x, x.y);
+    const double phi = unwrapAzimuth(std::atan2(x.y, x.x), phi0);
+    // In the segments of a cylindrical traversal theta holds the height index.
+    const double wr = weightIn(g.radius, s.r, rho), wp = weightIn(g.azimuth, s.phi, phi),
+                 wz = weightIn(g.height, s.theta, x.z);
+    double v = 0.0;
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const int a = corner & 1, b = (corner >> 1) & 1, c = (corner >> 2) & 1;
+      const double w = (a ? wr : 1.0 - wr) * (b ? wp : 1.0 - wp) * (c ? wz : 1.0 - wz);
+      if (w > 0.0)
+        v += w * pointValues[std::size_t(s.r + a) + nr * (std::size_t(s.phi + b) + np * std::size_t(s.theta + c))];
+    }
+    return v;
+  };
+  return renderPointData(CylindricalCells{ traversal }, valueAt, transfer, sampleDistance, camera, framebuffer,
+    options, "renderCylindricalVolumePoints");
+}
+
+std::vector<dvec3> sphericalCellGradients(const SphericalGrid& grid, const std::vector<double>& values)
+{
+  checkValueCount(values.size(), grid.cellCount(), "sphericalCellGradients");
+  const int nr = grid.radialCells(), nt = grid.polarCells(), np = grid.azimuthalCells();
+  const bool wrap = grid.fullCircle();
+  std::vector<dvec3> gradients(values.size());
+  for (int k = 0; k < np; ++k)
+    for (int j = 0; j < nt; ++j)
+      for (int i = 0; i < nr; ++i)
+      {
+        const double r = centreOf(grid.radius, i), theta = centreOf(grid.polar, j), phi = centreOf(grid.azimuth, k);
+        const double dr = centralDifference(i, nr, false, grid.radius, [&](int a) { return values[grid.cellIndex(a, j, k)]; });
+        const double dtheta = centralDifference(j, nt, false, grid.polar, [&](int a) { return values[grid.cellIndex(i, a, k)]; });
+        const double dphi = centralDifference(k, np, wrap, grid.azimuth, [&](int a) { return values[grid.cellIndex(i, j, a)]; });
+        const double st = std::sin(theta), ct = std::cos(theta), sp = std::sin(phi), cp = std::cos(phi);
+        const dvec3 er(st * cp, st * sp, ct), et(ct * cp, ct * sp, -st), ep(-sp, cp, 0.0);
+        dvec3 g = dr * er;
+        if (r > 0.0)
+          g += dtheta / r * et;
+        if (r * st > 0.0)
+          g += dphi / (r * st) * ep;
+        gradients[grid.cellIndex(i, j, k)] = g;
+      }
+  return gradients;
+}
+
+std::vector<dvec3> cylindricalCellGradients(const CylindricalGrid& grid, const std::vector<double>& values)
+{
+  checkValueCount(values.size(), grid.cellCount(), "cylindricalCellGradients");
+  const int nr = grid.radialCells(), np = grid.azimuthalCells(), nz = grid.heightCells();
+  const bool wrap = grid.fullCircle();
+  std::vector<dvec3> gradients(values.size());
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < np; ++j)
+      for (int i = 0; i < nr; ++i)
+      {
+        const double rho = centreOf(grid.radius, i), phi = centreOf(grid.azimuth, j);
+        const double drho = centralDifference(i, nr, false, grid.radius, [&](int a) { return values[grid.cellIndex(a, j, k)]; });
+        const double dphi = centralDifference(j, np, wrap, grid.azimuth, [&](int a) { return values[grid.cellIndex(i, a, k)]; });
+        const double dz = centralDifference(k, nz, false, grid.height, [&](int a) { return values[grid.cellIndex(i, j, a)]; });
+        const double sp = std::sin(phi), cp = std::cos(phi);
+        dvec3 g = drho * dvec3(cp, sp, 0.0) + dz * dvec3(0.0, 0.0, 1.0);
+        if (rho > 0.0)
+          g += dphi / rho * dvec3(-sp, cp, 0.0);
+        gradients[grid.cellIndex(i, j, k)] = g;
+      }
+  return gradients;
+}
+
+std::vector<dvec3> cellCentres(const SphericalGrid& grid)
+{
+  std::vector<dvec3> centres(grid.cellCount());
+  for (int k = 0; k < grid.azimuthalCells(); ++k)
+    for (int j = 0; j < grid.polarCells(); ++j)
+      for (int i = 0; i < grid.radialCells(); ++i)
+        centres[grid.cellIndex(i, j, k)] =
+          sphericalToCartesian(centreOf(grid.radius, i), centreOf(grid.polar, j), centreOf(grid.azimuth, k));
+  return centres;
+}
+
+std::vector<dvec3> cellCentres(const CylindricalGrid& grid)
+{
+  std::vector<dvec3> centres(grid.cellCount());
+  for (int k = 0; k < grid.heightCells(); ++k)
+    for (int j = 0; j < grid.azimuthalCells(); ++j)
+      for (int i = 0; i < grid.radialCells(); ++i)
+      {
+        const double rho = centreOf(grid.radius, i), phi = centreOf(grid.azimuth, j);
+        centres[grid.cellIndex(i, j, k)] = dvec3(rho * std::cos(phi), rho * std::sin(phi), centreOf(grid.height, k));
+      }
+  return centres;
+}
+
+void shadeCells(const std::vector<dvec3>& centres, const std::vector<dvec3>& gradients,
+  const Material& material, const Lighting& lighting, const Camera& camera,
+  std::vector<TransferSample>& cells)
+{
+  if (gradients.size() != cells.size() || centres.size() != cells.size())
+    throw std::invalid_argument("sightline::shadeCells: " + std::to_string(centres.size()) + " centres and " +
+      std::to_string(gradients.size()) + " gradients for " + std::to_string(cells.size()) + " cells");
+  tbb::parallel_for(std::size_t(0), cells.size(),
+    [&](std::size_t c)
+    {
+      TransferSample& cell = cells[c];
+      if (!(cell.extinction > 0.0))
+        return;
+      const dvec3 g = gradients[c];
+      const double length = glm::length(g);
+      if (!(length > 0.0))
+      {
+        cell.color *= material.ambient + material.diffuse;
+        return;
+      }
+      // The viewer direction at the cell's projection, right for parallel and perspective views.
+      const dvec4 clip = camera.worldToClip() * dvec4(centres[c], 1.0);
+      const double px = (clip.x / clip.w * 0.5 + 0.5) * camera.width();
+      const double py = (clip.y / clip.w * 0.5 + 0.5) * camera.height();
+      const vec3 toViewer = -glm::normalize(camera.primaryRay(px, py).direction);
+      vec3 normal = vec3(g / length);
+      if (glm::dot(normal, toViewer) < 0.0f)
+        normal = -normal; // two-sided, as VTK's volume shading
+      cell.color = shade(material, cell.color, cell.color, normal, toViewer, lighting);
+    });
+}
+} // namespace sightline

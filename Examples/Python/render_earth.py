@@ -8,7 +8,7 @@ degree-2 lateral perturbation of the mantle density (sin^2(theta) cos(2 phi), 5 
 of pattern seismic tomography images. A quarter of the globe is cut away (the grid is a
 270-degree wedge), the mantle and outer core are a shell from the inner-core boundary out,
 and the inner core is an opaque sphere inside the volume, and a latitude/longitude graticule
-of ordinary VTK lines lies just above the surface: rays stop at their depth.
+of ordinary VTK lines lies just above the surface on the side facing the camera.
 
 vtkSightlineSphericalVolumeMapper traverses every pixel's ray exactly through the grid's
 cells (spheres, cones and half-planes), so layer boundaries stay sharp at any zoom, with no
@@ -86,6 +86,37 @@ def graticule(radius, step_degrees=30, samples=181):
     return polydata
 
 
+def front_graticule(camera, radius, color=(0.85, 0.9, 1.0)):
+    """The graticule as an actor that shows only the hemisphere cap the camera can see.
+
+    Lines on the far side would otherwise show through the translucent limb, where little
+    material lies in front of them: near a pole a dozen meridians converge there and read as
+    light streaks on the globe. A clipping plane keeps the cap in front of the silhouette,
+    p . c > radius^2 / |c| for a camera at c (perspective), or p . c > 0 (parallel), and follows
+    the camera as it moves."""
+    mapper = vtk.vtkPolyDataMapper()
+    mapper.SetInputData(graticule(radius))
+    plane = vtk.vtkPlane()
+    mapper.AddClippingPlane(plane)
+
+    def follow(*_):
+        position = camera.GetPosition()
+        distance = math.sqrt(sum(x * x for x in position))
+        normal = [x / distance for x in position]
+        offset = 0.0 if camera.GetParallelProjection() else radius * radius / distance
+        plane.SetNormal(*normal)
+        plane.SetOrigin(*(offset * n for n in normal))
+
+    follow()
+    camera.AddObserver(vtk.vtkCommand.ModifiedEvent, follow)
+    actor = vtk.vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(*color)
+    actor.GetProperty().SetLineWidth(1.5)
+    actor.GetProperty().LightingOff()
+    return actor
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--output", default="output")
@@ -146,18 +177,9 @@ def main():
     core.GetProperty().SetColor(0.95, 0.95, 0.85)
     core.GetProperty().SetSpecular(0.3)
 
-    lines_mapper = vtk.vtkPolyDataMapper()
-    lines_mapper.SetInputData(graticule(EARTH_KM * 1.003))
-    lines = vtk.vtkActor()
-    lines.SetMapper(lines_mapper)
-    lines.GetProperty().SetColor(0.85, 0.9, 1.0)
-    lines.GetProperty().SetLineWidth(1.5)
-    lines.GetProperty().LightingOff()
-
     renderer = vtk.vtkRenderer()
     renderer.SetBackground(0.02, 0.02, 0.05)
     renderer.AddActor(core)
-    renderer.AddActor(lines)
     renderer.AddVolume(volume)
     camera = renderer.GetActiveCamera()
     camera.SetFocalPoint(0, 0, 0)
@@ -166,6 +188,8 @@ def main():
     renderer.ResetCamera()
     camera.Dolly(1.25)
     renderer.ResetCameraClippingRange()
+    lines = front_graticule(camera, EARTH_KM * 1.003)
+    renderer.AddActor(lines)
 
     window = vtk.vtkRenderWindow()
     window.SetOffScreenRendering(1)

@@ -154,6 +154,11 @@ class Layer:
     def set_translucent(self, on):
         return False
 
+    def frame_points(self):
+        """Points the camera frames: the corners of every prop's bounds."""
+        return np.array([[box[i], box[2 + j], box[4 + k]] for box in self.bounds()
+                         for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+
 
 class TubeLayer(Layer):
     """Streamlines (.trk, .tck) and neurons (.swc) as exact generalised tubes."""
@@ -214,6 +219,12 @@ class TubeLayer(Layer):
 
     def describe(self):
         return f"{self.path}: {self.count_text}, tubes ({self.radius_text})"
+
+    def frame_points(self):
+        """The tubes' points (at most 5000 of them): a bundle's bounding box has empty
+        corners that would make it look small."""
+        points = vtk_to_numpy(self.data.GetPoints().GetData()).astype(float)
+        return points[::max(1, len(points) // 5000)]
 
 
 class GlyphLayer(Layer):
@@ -566,8 +577,16 @@ class Scene:
         camera.SetViewUp(*view_up)
         camera.SetViewAngle(30.0)
         bounds = self.data_bounds()
-        self.renderer.ResetCamera(bounds)
-        camera.Zoom(1.3 if self.glyphs else 1.15)
+        self.renderer.ResetCamera(bounds)  # the bounding sphere in view: zoom in to the box
+        width, height = self.args.size
+        corners = np.concatenate([layer.frame_points() for layer in self.layers])
+        corners = np.hstack([corners, np.ones((len(corners), 1))])
+        for _ in range(3):  # Zoom narrows the view angle: converges in a few steps
+            matrix = nifti.from_vtk_matrix(
+                camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+            projected = corners @ matrix.T
+            extent = np.abs(projected[:, :2] / projected[:, 3:4]).max()
+            camera.Zoom(0.9 / extent)  # the data's box fills 90 % of the shorter way
         self.renderer.ResetCameraClippingRange(bounds)
         return camera
 
@@ -689,7 +708,12 @@ def render_to_file(scene, args):
     if not os.path.isdir(folder):
         raise ViewError(f"--output {args.output}: no folder {folder}")
     start = time.perf_counter()
-    if scene.underlay is not None and extension == ".png":
+    use_window = scene.underlay is not None and extension == ".png"
+    if use_window and sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
+        print("note: no X display, so the underlay (an OpenGL image slice) is left out; run "
+              "under xvfb-run to draw it", file=sys.stderr)
+        use_window = False
+    if use_window:
         window = vtk.vtkRenderWindow()
         window.SetOffScreenRendering(1)
         window.SetMultiSamples(0)
@@ -703,7 +727,7 @@ def render_to_file(scene, args):
         grab.Update()
         image, how = grab.GetOutput(), "VTK window, offscreen (for the underlay)"
     else:
-        if scene.underlay is not None:
+        if scene.underlay is not None and extension == ".exr":
             print("note: the .exr comes from the GL-free renderer, which does not draw the "
                   "underlay (an OpenGL image slice); write a .png to see it", file=sys.stderr)
         batch = sightline.vtkSightlineImageRenderer()

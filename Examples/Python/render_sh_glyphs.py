@@ -28,6 +28,7 @@ import numpy as np
 import vtk
 
 import sightline
+from sightline import nifti
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -116,28 +117,12 @@ def ensure_default_data(folder):
     return sh, os.path.join(folder, DEFAULT_ANATOMY)
 
 
-def file_axes_to_world(reader):
-    """The map from the NIfTI file's voxel axes to world axes, for SH directions given in
-    those axes (DIPY fits with FSL-style b-vectors). vtkNIFTIImageReader's qform has its third
-    column negated when it reversed the slice order (qfac -1); the file's axes need it back."""
-    matrix = vtk.vtkMatrix4x4()
-    matrix.DeepCopy(reader.GetQFormMatrix())
-    for row in range(3):
-        matrix.SetElement(row, 2, matrix.GetElement(row, 2) * reader.GetQFac())
-    return matrix
-
-
 def read_nifti(path, as_vector):
-    if not os.path.exists(path):
-        raise SystemExit(f"no such file: {path}")
-    reader = vtk.vtkNIFTIImageReader()
-    reader.SetFileName(path)
-    if as_vector:
-        reader.TimeAsVectorOn()  # the 4th NIfTI axis becomes the components of one array
-    reader.Update()
-    if reader.GetErrorCode() or reader.GetOutput().GetNumberOfPoints() == 0:
-        raise SystemExit(f"could not read {path} as NIfTI")
-    return reader
+    """vtkNIFTIImageReader, updated; a missing or unreadable file exits with its name."""
+    try:
+        return nifti.read(path, as_vector)
+    except nifti.NiftiError as error:
+        raise SystemExit(f"error: {error}") from None
 
 
 class SHGlyphScene:
@@ -185,10 +170,13 @@ class SHGlyphScene:
 
         mapper = sightline.vtkSightlineSHGlyphMapper()
         mapper.SetInputDataObject(image)
-        mapper.SetDataToWorldMatrix(self.reader.GetQFormMatrix())
+        # Voxel centres in world space from the file's best affine (sform, else qform, else
+        # nibabel's base affine), for VTK's slice order.
+        self.data_to_world = nifti.data_to_world(self.reader)
+        mapper.SetDataToWorldMatrix(self.data_to_world)
         if frame == "voxel":
             # The glyphs turn with the image: their directions are in the file's voxel axes.
-            mapper.SetDirectionToWorldMatrix(file_axes_to_world(self.reader))
+            mapper.SetDirectionToWorldMatrix(nifti.file_axes_to_world(self.reader))
         if not mapper.SetBasisByName(basis):
             raise SystemExit(f"unknown basis {basis}")
         mapper.SetLegacyBasis(legacy)
@@ -253,7 +241,7 @@ class SHGlyphScene:
             self.anatomy_mapper.SetSliceNumber(index)
             _, normal, _ = self.slice_frame()
             radius = self.args.scale * 0.5 * min(self.image.GetSpacing())
-            self.anatomy_matrix.DeepCopy(self.anatomy_reader.GetQFormMatrix())
+            self.anatomy_matrix.DeepCopy(nifti.data_to_world(self.anatomy_reader))
             for row in range(3):
                 self.anatomy_matrix.SetElement(row, 3, self.anatomy_matrix.GetElement(row, 3)
                                                - 0.6 * radius * normal[row])
@@ -279,7 +267,7 @@ class SHGlyphScene:
         """World centre of the drawn slice, its world normal (towards the viewer's side:
         superior, anterior or right... whichever world axis the slice is closest to) and a
         view-up direction in the slice plane."""
-        matrix = self.reader.GetQFormMatrix()
+        matrix = self.data_to_world
         spacing = self.image.GetSpacing()
         origin = self.image.GetOrigin()
         extent = list(self.image.GetExtent())

@@ -191,7 +191,20 @@ class TubeLayer(Layer):
                 mapper.SetRadiusArrayName("Radius")
                 self.radius_text = "radii from the file"
             self.count_text = f"{data.GetNumberOfPoints()} samples"
-            color = (0.85, 0.75, 0.55)
+            # Coloured by SWC structure type as NeuroMorpho.org draws them: soma white, axon
+            # blue, basal dendrite red, apical dendrite magenta, others grey-gold.
+            table = vtk.vtkLookupTable()
+            types = [(0.8, 0.7, 0.5), (0.95, 0.95, 0.95), (0.3, 0.5, 1.0), (0.95, 0.3, 0.25),
+                     (0.9, 0.3, 0.9), (0.8, 0.7, 0.5), (0.8, 0.7, 0.5), (0.8, 0.7, 0.5)]
+            table.SetNumberOfTableValues(len(types))
+            for index, rgb in enumerate(types):
+                table.SetTableValue(index, *rgb, 1.0)
+            table.SetTableRange(-0.5, len(types) - 0.5)
+            mapper.SetLookupTable(table)
+            mapper.UseLookupTableScalarRangeOn()
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray("Type")
+            color = None
         else:
             if data.GetNumberOfLines() == 0:
                 raise ViewError(f"{path}: holds no streamlines")

@@ -52,7 +52,7 @@ BASES = {  # name: (mapper basis, legacy by default)
 # permutation into the unique-component order xx, xy, xz, yy, yz, zz.
 LAYOUTS = {
     "fsl": ("SymmetricUnique", None),            # xx xy xz yy yz zz (FSL dtifit, unique order)
-    "unique": ("SymmetricUnique", None),
+    "unique": ("SymmetricUnique", None),         # any even order, one per monomial
     "vtk": ("VTKSymmetric", None),               # xx yy zz xy yz xz (vtkTensorGlyph)
     "dipy": ("SymmetricUnique", (0, 1, 3, 2, 4, 5)),     # xx xy yy xz yz zz (lower triangle)
     "mrtrix3": ("SymmetricUnique", (0, 3, 4, 1, 5, 2)),  # xx yy zz xy xz yz (dwi2tensor)
@@ -287,6 +287,8 @@ class GlyphLayer(Layer):
         else:
             mapper = sightline.vtkSightlineTensorGlyphMapper()
             getattr(mapper, "SetTensorLayoutTo" + LAYOUTS[self.detail][0])()
+            if count == 6 and args.tensor_shape == "ellipsoid":
+                mapper.SetShapeToEllipsoid()  # as vtkTensorGlyph, mrview and DIPY draw DTI
         mapper.SetInputDataObject(image)
         mapper.SetDataToWorldMatrix(self.data_to_world)
         if args.frame == "voxel":
@@ -312,12 +314,12 @@ class GlyphLayer(Layer):
     def classify(path, count, extension, intent_symmatrix, args):
         """('sh', basis) or ('tensor', layout) from the component count and the options."""
         if args.layout:
-            if count not in TENSOR_COUNTS:
-                raise ViewError(f"{path}: {count} components per voxel is no tensor (--layout "
-                                f"{args.layout}); tensors have {', '.join(TENSOR_COUNTS.values())}")
-            if args.layout in ("fsl", "unique", "vtk", "dipy", "mrtrix3") and count != 6:
-                raise ViewError(f"{path}: --layout {args.layout} is for 6 components, "
-                                f"the file has {count}")
+            fits = {"unique": [c for c in sorted(SH_COUNTS) if c > 1],
+                    "full": [3 ** order for order in range(2, 13, 2)], "voigt": [36]}
+            fits = fits.get(args.layout, [6])  # the 6-component orders
+            if count not in fits:
+                raise ViewError(f"{path}: --layout {args.layout} is for "
+                                f"{', '.join(map(str, fits))} components, the file has {count}")
             return "tensor", args.layout
         if count == 1:
             raise ViewError(f"{path}: one value per voxel is a scalar image, not glyphs; pass it "
@@ -881,6 +883,9 @@ def parse_arguments(argv):
                              "count: 6 -> fsl (xx xy xz yy yz zz), or dipy (xx xy yy xz yz zz) "
                              "when the NIfTI intent is SYMMATRIX, or mrtrix3 (xx yy zz xy xz yz) "
                              "for .mif; 9/81/729 -> full; 36 -> voigt)")
+    glyphs.add_argument("--tensor-shape", choices=("ellipsoid", "function"), default="ellipsoid",
+                        help="order-2 tensors as ellipsoids (default) or as the tensor function "
+                             "r(w) = |w^T D w|; higher orders are always the function")
     glyphs.add_argument("--frame", choices=("world", "voxel"), default="world",
                         help="axes of the glyph directions: world (scanner axes, as MRtrix3 "
                              "writes them; default) or voxel (the NIfTI file's axes, as DIPY "

@@ -129,6 +129,30 @@ def direction_colors(lines):
     return lines
 
 
+def read_tubes(path):
+    """vtkPolyData of a .trk or .tck file (polylines in RAS+ mm, direction colours) or of an
+    .swc file (points with Radius, Type and ParentIndex arrays); ViewError naming the file when
+    it is missing, of another type, unreadable or empty."""
+    extension = lower_extension(path)
+    if extension not in TubeLayer.READERS:
+        raise ViewError(f"{path}: not a .trk, .tck or .swc file")
+    if not os.path.isfile(path):
+        raise ViewError(f"{path}: no such file")
+    class_name, what = TubeLayer.READERS[extension]
+    reader = getattr(sightline, class_name)()
+    reader.SetFileName(path)
+    Progress(f"reading {os.path.basename(path)}").watch(reader)
+    data = vtk.vtkPolyData()
+    data.DeepCopy(run_reader(reader, path, what))
+    if data.GetNumberOfPoints() == 0:
+        raise ViewError(f"{path}: holds no points ({what} with nothing to draw)")
+    if extension != ".swc":
+        if data.GetNumberOfLines() == 0:
+            raise ViewError(f"{path}: holds no streamlines")
+        direction_colors(data)
+    return data
+
+
 def shade(prop, ambient=0.2, specular=0.3):
     prop.SetAmbient(ambient)
     prop.SetDiffuse(1.0 - ambient)
@@ -169,15 +193,7 @@ class TubeLayer(Layer):
 
     def __init__(self, path, extension, args):
         super().__init__(path)
-        class_name, what = self.READERS[extension]
-        reader = getattr(sightline, class_name)()
-        reader.SetFileName(path)
-        Progress(f"reading {os.path.basename(path)}").watch(reader)
-        output = run_reader(reader, path, what)
-        data = vtk.vtkPolyData()
-        data.DeepCopy(output)
-        if data.GetNumberOfPoints() == 0:
-            raise ViewError(f"{path}: holds no points ({what} with nothing to draw)")
+        data = read_tubes(path)
         mapper = sightline.vtkSightlineTubeMapper()
         mapper.SetInputDataObject(data)
         diagonal = math.sqrt(sum((data.GetBounds()[2 * i + 1] - data.GetBounds()[2 * i]) ** 2
@@ -206,9 +222,6 @@ class TubeLayer(Layer):
             mapper.SelectColorArray("Type")
             color = None
         else:
-            if data.GetNumberOfLines() == 0:
-                raise ViewError(f"{path}: holds no streamlines")
-            direction_colors(data)
             mapper.SetColorModeToDirectScalars()
             # Streamline files are in mm: 0.5 mm, or thinner for tiny test data.
             radius = args.radius or min(0.5, diagonal / 200.0)
@@ -453,55 +466,73 @@ class Underlay:
         self.matrix.DeepCopy(nifti.to_vtk_matrix(shifted))
 
 
+def ramp_volume_property(low, high, max_opacity=0.6):
+    """A vtkVolumeProperty for values in [low, high]: a perceptual colour ramp (dark blue, teal,
+    green, yellow) and opacity rising linearly from 0 to max_opacity."""
+    color, opacity = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
+    for t, rgb in ((0.0, (0.18, 0.12, 0.45)), (0.35, (0.13, 0.47, 0.56)),
+                   (0.7, (0.35, 0.75, 0.38)), (1.0, (0.99, 0.9, 0.15))):
+        color.AddRGBPoint(low + t * (high - low), *rgb)
+    opacity.AddPoint(low, 0.0)
+    opacity.AddPoint(high, max_opacity)
+    prop = vtk.vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    return prop
+
+
+def read_grid(path):
+    """(vtkRectilinearGrid, its scalars, 'points' or 'cells') of a .vtr file with one scalar
+    array (the active one, or the first); ViewError naming the problem."""
+    if not os.path.isfile(path):
+        raise ViewError(f"{path}: no such file")
+    reader = vtk.vtkXMLRectilinearGridReader()
+    if lower_extension(path) != ".vtr" or not reader.CanReadFile(path):
+        raise ViewError(f"{path}: not a VTK XML rectilinear grid (.vtr) file")
+    reader.SetFileName(path)
+    Progress(f"reading {os.path.basename(path)}").watch(reader)
+    grid = run_reader(reader, path, "a VTK XML rectilinear grid")
+    data, association = grid.GetPointData(), "points"
+    if grid.GetCellData().GetNumberOfArrays() and not data.GetNumberOfArrays():
+        data, association = grid.GetCellData(), "cells"
+    if data.GetNumberOfArrays() == 0:
+        raise ViewError(f"{path}: the grid has no data array to draw")
+    if data.GetScalars() is None:
+        data.SetActiveScalars(data.GetArrayName(0))
+    scalars = data.GetScalars()
+    if scalars.GetNumberOfComponents() != 1:
+        raise ViewError(f"{path}: array '{scalars.GetName()}' has "
+                        f"{scalars.GetNumberOfComponents()} components; the volume needs one")
+    return grid, scalars, association
+
+
+def angles_in_degrees(grid, coordinates="spherical"):
+    """Whether a spherical (y, z) or cylindrical (y) grid's angles exceed 2 pi: degrees."""
+    angles = ((grid.GetYCoordinates(), grid.GetZCoordinates()) if coordinates == "spherical"
+              else (grid.GetYCoordinates(),))
+    return any(np.abs(vtk_to_numpy(axis)).max() > 2 * math.pi + 1e-6 for axis in angles)
+
+
 class VolumeLayer(Layer):
     """A spherical or cylindrical vtkRectilinearGrid (.vtr), ray-cast on its own cells."""
 
     def __init__(self, path, extension, args):
         super().__init__(path)
-        if not os.path.isfile(path):
-            raise ViewError(f"{path}: no such file")
-        reader = vtk.vtkXMLRectilinearGridReader()
-        if not reader.CanReadFile(path):
-            raise ViewError(f"{path}: not a VTK XML rectilinear grid (.vtr) file")
-        reader.SetFileName(path)
-        Progress(f"reading {os.path.basename(path)}").watch(reader)
-        grid = run_reader(reader, path, "a VTK XML rectilinear grid")
-        data, association = grid.GetPointData(), "points"
-        if grid.GetCellData().GetNumberOfArrays() and not data.GetNumberOfArrays():
-            data, association = grid.GetCellData(), "cells"
-        if data.GetNumberOfArrays() == 0:
-            raise ViewError(f"{path}: the grid has no data array to draw")
-        if data.GetScalars() is None:
-            data.SetActiveScalars(data.GetArrayName(0))
-        scalars = data.GetScalars()
-        if scalars.GetNumberOfComponents() != 1:
-            raise ViewError(f"{path}: array '{scalars.GetName()}' has "
-                            f"{scalars.GetNumberOfComponents()} components; the volume needs one")
+        grid, scalars, association = read_grid(path)
         mapper = sightline.vtkSightlineSphericalVolumeMapper()
         mapper.SetInputDataObject(grid)
         if args.grid == "cylindrical":
             mapper.SetCoordinateSystemToCylindrical()
         degrees = args.angles == "degrees"
-        if args.angles == "auto":  # an angle beyond 2 pi: the file is in degrees
-            angles = ((grid.GetYCoordinates(), grid.GetZCoordinates()) if args.grid == "spherical"
-                      else (grid.GetYCoordinates(),))
-            degrees = any(np.abs(vtk_to_numpy(axis)).max() > 2 * math.pi + 1e-6 for axis in angles)
+        if args.angles == "auto":
+            degrees = angles_in_degrees(grid, args.grid)
         if degrees:
             mapper.SetAngleUnitsToDegrees()
         Progress(f"volume of {os.path.basename(path)}").watch(mapper)
         low, high = scalars.GetRange()
         if not high > low:
             high = low + 1.0
-        color, opacity = vtk.vtkColorTransferFunction(), vtk.vtkPiecewiseFunction()
-        # A perceptual ramp (dark blue, teal, yellow) and opacity rising with the value.
-        for t, rgb in ((0.0, (0.18, 0.12, 0.45)), (0.35, (0.13, 0.47, 0.56)),
-                       (0.7, (0.35, 0.75, 0.38)), (1.0, (0.99, 0.9, 0.15))):
-            color.AddRGBPoint(low + t * (high - low), *rgb)
-        opacity.AddPoint(low, 0.0)
-        opacity.AddPoint(high, 0.6)
-        prop = vtk.vtkVolumeProperty()
-        prop.SetColor(color)
-        prop.SetScalarOpacity(opacity)
+        prop = ramp_volume_property(low, high)
         bounds = mapper.GetBounds()
         size = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
         self.unit_distance = size / 8.0

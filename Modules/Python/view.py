@@ -768,7 +768,7 @@ def render_to_file(scene, args):
         window.Render()
         grab = vtk.vtkWindowToImageFilter()
         grab.SetInput(window)
-        grab.SetInputBufferTypeToRGBA()
+        grab.SetInputBufferTypeToRGB()  # VTK's alpha is 0 on the background: keep it opaque
         grab.ReadFrontBufferOff()
         grab.Update()
         image, how = grab.GetOutput(), "VTK window, offscreen (for the underlay)"

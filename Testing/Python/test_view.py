@@ -90,10 +90,12 @@ class View(unittest.TestCase):
         self.assertNotIn("Traceback", result.stderr)
         return result
 
-    def render(self, name, *files_and_options, min_fill=0.5):
-        """Renders without a window; checks the picture is not empty and frames the data."""
+    def render(self, name, *files_and_options, min_fill=0.5, display=False):
+        """Renders to a PNG (without a window unless display); checks the picture is not empty
+        and frames the data."""
         output = os.path.join(self.folder, name + ".png")
-        result = self.run_view(*files_and_options, "--output", output, "--size", *map(str, SIZE))
+        result = self.run_view(*files_and_options, "--output", output, "--size", *map(str, SIZE),
+                               display=display)
         covered = covered_pixels(output)
         self.assertGreater(covered.mean(), 0.01, f"{name}: (nearly) empty image\n{result.stdout}")
         rows, columns = np.nonzero(covered.any(axis=1))[0], np.nonzero(covered.any(axis=0))[0]
@@ -215,12 +217,11 @@ class View(unittest.TestCase):
         if SH_DATA:  # an underlay adds grey pixels beneath the glyphs
             sh = os.path.join(SH_DATA, "small_64D_sh_descoteaux07.nii.gz")
             fa = os.path.join(SH_DATA, "small_64D_fa.nii.gz")
-            plain = os.path.join(self.folder, "plain.png")
-            under = os.path.join(self.folder, "underlay.png")
-            self.run_view(sh, "--output", plain, "--size", *map(str, SIZE))
-            self.run_view(sh, "--underlay", fa, "--output", under, "--size", *map(str, SIZE),
-                          display=True)
-            self.assertGreater(covered_pixels(under).mean(), covered_pixels(plain).mean() + 0.1)
+            _, plain = self.render("plain", sh)
+            result, under = self.render("underlay", sh, "--underlay", fa, display=True)
+            self.assertIn("VTK window", result.stdout)
+            self.assertGreater(under.mean(), plain.mean() + 0.1)
+            self.assertFalse(under[0].any() or under[-1].any(), "no background above and below")
 
     # -- bad input ------------------------------------------------------------------------------
     def expect_error(self, message, *arguments, output="x.png"):

@@ -29,6 +29,7 @@ import vtk
 
 import sightline
 from sightline import nifti
+from sightline.view import BASES, add_legacy_options  # name: (mapper basis, legacy default)
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -36,13 +37,6 @@ MAKE_SH_DATA = os.path.join(HERE, os.pardir, os.pardir, "scripts", "make_sh_data
 DEFAULT_SH = "small_64D_sh_descoteaux07.nii.gz"
 DEFAULT_ANATOMY = "small_64D_fa.nii.gz"
 
-BASES = {
-    # name: (mapper basis, legacy default)
-    "dipy": ("descoteaux07", True),
-    "descoteaux07": ("descoteaux07", True),
-    "mrtrix3": ("tournier07", False),
-    "tournier07": ("tournier07", False),
-}
 SLICES = ("axial", "coronal", "sagittal")
 SHADOWS = ("off", "hard", "soft")
 NEGATIVE_LOBES = ("show", "color", "hide")
@@ -58,11 +52,7 @@ def parse_arguments(argv=None, description=__doc__, interactive=False):
     parser.add_argument("--basis", choices=sorted(BASES), default="dipy",
                         help="SH basis: dipy (= descoteaux07, legacy) or mrtrix3 (= tournier07, "
                              "not legacy). Default dipy")
-    legacy = parser.add_mutually_exclusive_group()
-    legacy.add_argument("--legacy", dest="legacy", action="store_true", default=None,
-                        help="the legacy variant of the basis (overrides --basis' default)")
-    legacy.add_argument("--no-legacy", dest="legacy", action="store_false",
-                        help="the non-legacy variant of the basis")
+    add_legacy_options(parser)
     parser.add_argument("--sh-frame", choices=("auto", "world", "voxel"), default="auto",
                         help="axes of the SH directions: world (scanner axes, as MRtrix3 writes "
                              "FODs) or voxel (the file's axes: DIPY fits with FSL-style bvecs; "

@@ -889,6 +889,16 @@ class Viewer:
         interactor.Start()
 
 
+def add_legacy_options(parser):
+    """--legacy / --no-legacy (args.legacy: True, False or None for the basis' default); also
+    used by the SH examples."""
+    legacy = parser.add_mutually_exclusive_group()
+    legacy.add_argument("--legacy", dest="legacy", action="store_true", default=None,
+                        help="the legacy variant of the basis (default: the basis' own)")
+    legacy.add_argument("--no-legacy", dest="legacy", action="store_false",
+                        help="the non-legacy variant of the basis")
+
+
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(
         prog="sightline-view", description=__doc__.split("\n\n", 1)[1].split("\nWindow keys")[0],
@@ -904,11 +914,7 @@ def parse_arguments(argv):
     glyphs.add_argument("--basis", choices=sorted(BASES),
                         help="read the image as SH coefficients in this basis (default: dipy = "
                              "descoteaux07 legacy for NIfTI, mrtrix3 = tournier07 for .mif)")
-    legacy = glyphs.add_mutually_exclusive_group()
-    legacy.add_argument("--legacy", dest="legacy", action="store_true", default=None,
-                        help="the legacy variant of the basis")
-    legacy.add_argument("--no-legacy", dest="legacy", action="store_false",
-                        help="the non-legacy variant of the basis")
+    add_legacy_options(glyphs)
     glyphs.add_argument("--layout", choices=sorted(LAYOUTS),
                         help="read the image as tensors in this component order (default by "
                              "count: 6 -> fsl (xx xy xz yy yz zz), or dipy (xx xy yy xz yz zz) "

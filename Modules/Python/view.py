@@ -870,15 +870,16 @@ class Viewer:
         interactor.SetInteractorStyle(style)
         interactor.SetDesiredUpdateRate(8.0)  # the mappers trace every second pixel meanwhile
 
+        # Observers on the style replace its own OnKeyPress/OnChar: our keys act once, on the
+        # key press; VTK's other keys keep their meaning (q/e quit, f fly to), except the ones
+        # that would switch the tubes to wireframe or stereo.
+        def on_key_press(caller, _event):
+            self.handle(caller.GetInteractor().GetKeySym())
+
         def on_char(caller, _event):
             key = caller.GetInteractor().GetKeySym()
-            if not self.handle(key) and key not in ("w", "f", "3", "j", "t", "u"):
-                style.OnChar()  # q/e quit and VTK's other keys (not wireframe etc.)
-
-        def on_key_press(caller, _event):
-            key = caller.GetInteractor().GetKeySym()
-            if key in ("Up", "Down", "Prior", "Next"):
-                self.handle(key)
+            if key not in self.actions and key not in ("w", "3", "j", "t", "u"):
+                style.OnChar()
 
         style.AddObserver(vtk.vtkCommand.CharEvent, on_char)
         style.AddObserver(vtk.vtkCommand.KeyPressEvent, on_key_press)

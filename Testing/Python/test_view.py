@@ -154,7 +154,7 @@ class View(unittest.TestCase):
                    for name in ("AF_L", "CST_R", "CC_ForcepsMajor")]
         result, covered = self.render("minimal_bundles", *bundles)
         self.assertEqual(result.stdout.count("50 streamlines"), 3)
-        # Translucent is not the same picture; a thicker radius covers more.
+        # --radius is honoured: thicker tubes cover more of the picture.
         _, thick = self.render("minimal_bundles_thick", *bundles, "--radius", "1.5")
         self.assertGreater(thick.mean(), covered.mean() * 1.3)
 

@@ -39,3 +39,7 @@ xvfb-run -a -s "-screen 0 1920x1080x24" \
 #    lines (output/earth_window.png, output/earth_gl_free.png).
 xvfb-run -a -s "-screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_earth.py --output "$root/output" --size 1200 1000
+# 6. A user's own file in one command: DIPY's shipped SH file (it has only an sform) through the
+#    installed-style viewer, without a window (output/sightline_view_func_coef.png).
+"$build/bin/sightline-view" /usr/lib/python3/dist-packages/dipy/data/files/func_coef.nii.gz \
+  --basis dipy --legacy --output "$root/output/sightline_view_func_coef.png" --size 1200 900

@@ -18,9 +18,10 @@ Two images: earth_window.png (a VTK window, offscreen) and earth_gl_free.png (th
 through vtkSightlineImageRenderer, no OpenGL: the inner core is an exact Sightline sphere in
 both, the graticule lines are OpenGL lines and only in the window).
 
-Usage: /usr/bin/python3 render_earth.py [--output DIR] [--size W H]
+Usage: /usr/bin/python3 render_earth.py [FILE.vtr] [--output DIR] [--size W H]
          [--resolution NR NTHETA NPHI] [--perturbation A] [--shade] [--interactive]
-(--interactive opens the window on a display afterwards; the mapper traces every second pixel
+(FILE.vtr: your own spherical grid instead of PREM, coloured over its value range;
+--interactive opens the window on a display afterwards; the mapper traces every second pixel
 while the view is dragged.)
 """
 import argparse
@@ -28,9 +29,12 @@ import math
 import os
 import time
 
+import numpy as np
 import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import sightline
+from sightline.view import ViewError, angles_in_degrees, ramp_volume_property, read_grid
 
 INNER_CORE_KM = 1221.5
 EARTH_KM = 6371.0
@@ -119,6 +123,10 @@ def front_graticule(camera, radius, color=(0.85, 0.9, 1.0)):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("file", nargs="?", metavar="FILE.vtr",
+                        help="your own spherical grid: a VTK XML rectilinear grid whose x, y, z "
+                             "are r, the polar angle (colatitude) and the azimuth, in radians or "
+                             "degrees (default: the PREM Earth from the field source)")
     parser.add_argument("--output", default="output")
     parser.add_argument("--size", type=int, nargs=2, default=(1200, 1000))
     parser.add_argument("--resolution", type=int, nargs=3, default=(120, 90, 180),
@@ -130,29 +138,47 @@ def main():
     args = parser.parse_args()
     os.makedirs(args.output, exist_ok=True)
 
-    source = sightline.vtkSightlineSphericalFieldSource()
-    source.SetFieldToPREMDensity()
-    # The field is PREM with RadiusRange[1] as the Earth's radius: kilometres here.
-    source.SetRadiusRange(INNER_CORE_KM, EARTH_KM)
-    nr, nt, nphi = args.resolution
-    source.SetRadialResolution(nr)
-    source.SetPolarResolution(nt)
-    source.SetAzimuthalResolution(nphi * 3 // 4)
-    source.SetAzimuthRange(0.0, 1.5 * math.pi)  # a quarter cut away
-    source.SetPerturbationAmplitude(args.perturbation)
-    start = time.perf_counter()
-    source.Update()
-    grid = source.GetOutput()
-    print(f"earth: {grid.GetNumberOfCells()} cells, {grid.GetDimensions()[0] - 1} shells "
-          f"(PREM boundaries included), sampled in {time.perf_counter() - start:.2f} s")
+    if args.file:
+        # The user's own spherical grid (r, theta, phi), read by sightline-view's loader.
+        try:
+            grid, scalars, _ = read_grid(args.file)
+        except ViewError as error:
+            raise SystemExit(f"error: {error}") from None
+        degrees = angles_in_degrees(grid)
+        radii = vtk_to_numpy(grid.GetXCoordinates())
+        outer = float(np.abs(radii).max())
+        print(f"earth: {grid.GetNumberOfCells()} cells of '{scalars.GetName()}' from {args.file} "
+              f"(angles in {'degrees' if degrees else 'radians'})")
+    else:
+        source = sightline.vtkSightlineSphericalFieldSource()
+        source.SetFieldToPREMDensity()
+        # The field is PREM with RadiusRange[1] as the Earth's radius: kilometres here.
+        source.SetRadiusRange(INNER_CORE_KM, EARTH_KM)
+        nr, nt, nphi = args.resolution
+        source.SetRadialResolution(nr)
+        source.SetPolarResolution(nt)
+        source.SetAzimuthalResolution(nphi * 3 // 4)
+        source.SetAzimuthRange(0.0, 1.5 * math.pi)  # a quarter cut away
+        source.SetPerturbationAmplitude(args.perturbation)
+        start = time.perf_counter()
+        source.Update()
+        grid, degrees, outer = source.GetOutput(), False, EARTH_KM
+        print(f"earth: {grid.GetNumberOfCells()} cells, {grid.GetDimensions()[0] - 1} shells "
+              f"(PREM boundaries included), sampled in {time.perf_counter() - start:.2f} s")
 
     mapper = sightline.vtkSightlineSphericalVolumeMapper()
-    mapper.SetInputConnection(source.GetOutputPort())
-    color, opacity = transfer_functions()
-    prop = vtk.vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(400.0)  # km
+    mapper.SetInputDataObject(grid)
+    if degrees:
+        mapper.SetAngleUnitsToDegrees()
+    if args.file:  # a colour ramp over the data's range
+        prop = ramp_volume_property(*scalars.GetRange())
+        prop.SetScalarOpacityUnitDistance(outer / 16.0)
+    else:
+        color, opacity = transfer_functions()
+        prop = vtk.vtkVolumeProperty()
+        prop.SetColor(color)
+        prop.SetScalarOpacity(opacity)
+        prop.SetScalarOpacityUnitDistance(400.0)  # km
     if args.shade:
         prop.ShadeOn()
         prop.SetAmbient(0.4)
@@ -179,16 +205,17 @@ def main():
 
     renderer = vtk.vtkRenderer()
     renderer.SetBackground(0.02, 0.02, 0.05)
-    renderer.AddActor(core)
+    if not args.file:  # PREM's inner core; a user's grid is drawn on its own
+        renderer.AddActor(core)
     renderer.AddVolume(volume)
     camera = renderer.GetActiveCamera()
     camera.SetFocalPoint(0, 0, 0)
-    camera.SetPosition(2.4 * EARTH_KM, -2.9 * EARTH_KM, 1.5 * EARTH_KM)
+    camera.SetPosition(2.4 * outer, -2.9 * outer, 1.5 * outer)
     camera.SetViewUp(0, 0, 1)
     renderer.ResetCamera()
     camera.Dolly(1.25)
     renderer.ResetCameraClippingRange()
-    lines = front_graticule(camera, EARTH_KM * 1.003)
+    lines = front_graticule(camera, outer * 1.003)
     renderer.AddActor(lines)
 
     window = vtk.vtkRenderWindow()
@@ -208,7 +235,8 @@ def main():
     writer.Write()
 
     image = sightline.vtkSightlineImageRenderer()
-    image.AddActor(core)
+    if not args.file:
+        image.AddActor(core)
     image.AddVolume(volume)
     image.SetActiveCamera(camera)
     image.SetSize(*args.size)

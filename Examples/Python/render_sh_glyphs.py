@@ -28,6 +28,8 @@ import numpy as np
 import vtk
 
 import sightline
+from sightline import nifti
+from sightline.view import BASES, add_legacy_options  # name: (mapper basis, legacy default)
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -35,13 +37,6 @@ MAKE_SH_DATA = os.path.join(HERE, os.pardir, os.pardir, "scripts", "make_sh_data
 DEFAULT_SH = "small_64D_sh_descoteaux07.nii.gz"
 DEFAULT_ANATOMY = "small_64D_fa.nii.gz"
 
-BASES = {
-    # name: (mapper basis, legacy default)
-    "dipy": ("descoteaux07", True),
-    "descoteaux07": ("descoteaux07", True),
-    "mrtrix3": ("tournier07", False),
-    "tournier07": ("tournier07", False),
-}
 SLICES = ("axial", "coronal", "sagittal")
 SHADOWS = ("off", "hard", "soft")
 NEGATIVE_LOBES = ("show", "color", "hide")
@@ -57,11 +52,7 @@ def parse_arguments(argv=None, description=__doc__, interactive=False):
     parser.add_argument("--basis", choices=sorted(BASES), default="dipy",
                         help="SH basis: dipy (= descoteaux07, legacy) or mrtrix3 (= tournier07, "
                              "not legacy). Default dipy")
-    legacy = parser.add_mutually_exclusive_group()
-    legacy.add_argument("--legacy", dest="legacy", action="store_true", default=None,
-                        help="the legacy variant of the basis (overrides --basis' default)")
-    legacy.add_argument("--no-legacy", dest="legacy", action="store_false",
-                        help="the non-legacy variant of the basis")
+    add_legacy_options(parser)
     parser.add_argument("--sh-frame", choices=("auto", "world", "voxel"), default="auto",
                         help="axes of the SH directions: world (scanner axes, as MRtrix3 writes "
                              "FODs) or voxel (the file's axes: DIPY fits with FSL-style bvecs; "
@@ -116,28 +107,12 @@ def ensure_default_data(folder):
     return sh, os.path.join(folder, DEFAULT_ANATOMY)
 
 
-def file_axes_to_world(reader):
-    """The map from the NIfTI file's voxel axes to world axes, for SH directions given in
-    those axes (DIPY fits with FSL-style b-vectors). vtkNIFTIImageReader's qform has its third
-    column negated when it reversed the slice order (qfac -1); the file's axes need it back."""
-    matrix = vtk.vtkMatrix4x4()
-    matrix.DeepCopy(reader.GetQFormMatrix())
-    for row in range(3):
-        matrix.SetElement(row, 2, matrix.GetElement(row, 2) * reader.GetQFac())
-    return matrix
-
-
 def read_nifti(path, as_vector):
-    if not os.path.exists(path):
-        raise SystemExit(f"no such file: {path}")
-    reader = vtk.vtkNIFTIImageReader()
-    reader.SetFileName(path)
-    if as_vector:
-        reader.TimeAsVectorOn()  # the 4th NIfTI axis becomes the components of one array
-    reader.Update()
-    if reader.GetErrorCode() or reader.GetOutput().GetNumberOfPoints() == 0:
-        raise SystemExit(f"could not read {path} as NIfTI")
-    return reader
+    """vtkNIFTIImageReader, updated; a missing or unreadable file exits with its name."""
+    try:
+        return nifti.read(path, as_vector)
+    except nifti.NiftiError as error:
+        raise SystemExit(f"error: {error}") from None
 
 
 class SHGlyphScene:
@@ -185,10 +160,13 @@ class SHGlyphScene:
 
         mapper = sightline.vtkSightlineSHGlyphMapper()
         mapper.SetInputDataObject(image)
-        mapper.SetDataToWorldMatrix(self.reader.GetQFormMatrix())
+        # Voxel centres in world space from the file's best affine (sform, else qform, else
+        # nibabel's base affine), for VTK's slice order.
+        self.data_to_world = nifti.data_to_world(self.reader)
+        mapper.SetDataToWorldMatrix(self.data_to_world)
         if frame == "voxel":
             # The glyphs turn with the image: their directions are in the file's voxel axes.
-            mapper.SetDirectionToWorldMatrix(file_axes_to_world(self.reader))
+            mapper.SetDirectionToWorldMatrix(nifti.file_axes_to_world(self.reader))
         if not mapper.SetBasisByName(basis):
             raise SystemExit(f"unknown basis {basis}")
         mapper.SetLegacyBasis(legacy)
@@ -253,7 +231,7 @@ class SHGlyphScene:
             self.anatomy_mapper.SetSliceNumber(index)
             _, normal, _ = self.slice_frame()
             radius = self.args.scale * 0.5 * min(self.image.GetSpacing())
-            self.anatomy_matrix.DeepCopy(self.anatomy_reader.GetQFormMatrix())
+            self.anatomy_matrix.DeepCopy(nifti.data_to_world(self.anatomy_reader))
             for row in range(3):
                 self.anatomy_matrix.SetElement(row, 3, self.anatomy_matrix.GetElement(row, 3)
                                                - 0.6 * radius * normal[row])
@@ -279,7 +257,7 @@ class SHGlyphScene:
         """World centre of the drawn slice, its world normal (towards the viewer's side:
         superior, anterior or right... whichever world axis the slice is closest to) and a
         view-up direction in the slice plane."""
-        matrix = self.reader.GetQFormMatrix()
+        matrix = self.data_to_world
         spacing = self.image.GetSpacing()
         origin = self.image.GetOrigin()
         extent = list(self.image.GetExtent())

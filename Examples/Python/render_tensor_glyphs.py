@@ -34,6 +34,7 @@ import vtk
 from vtkmodules.util.numpy_support import numpy_to_vtk
 
 import sightline
+from sightline import nifti
 
 COPPER_GPA = (168.4, 121.4, 75.4)  # C11, C12, C44
 VOIGT_PAIRS = {(0, 0): 0, (1, 1): 1, (2, 2): 2, (1, 2): 3, (2, 1): 3, (0, 2): 4, (2, 0): 4,
@@ -85,28 +86,18 @@ def copper_polycrystal(grains, seed=7):
     return poly
 
 
-def file_axes_to_world(reader):
-    """The map from the NIfTI file's voxel axes to world axes (tensors fitted with FSL-style
-    b-vectors, as DIPY and FSL do, are in those axes). vtkNIFTIImageReader's qform has its third
-    column negated when it reversed the slice order (qfac -1); the file's axes need it back."""
-    matrix = vtk.vtkMatrix4x4()
-    matrix.DeepCopy(reader.GetQFormMatrix())
-    for row in range(3):
-        matrix.SetElement(row, 2, matrix.GetElement(row, 2) * reader.GetQFac())
-    return matrix
-
-
 def build_pipeline(args):
     mapper = sightline.vtkSightlineTensorGlyphMapper()
     if args.tensor:
-        reader = vtk.vtkNIFTIImageReader()
-        reader.SetFileName(args.tensor)
-        reader.TimeAsVectorOn()
+        try:
+            reader = nifti.read(args.tensor, as_vector=True)
+        except nifti.NiftiError as error:
+            raise SystemExit(f"error: {error}") from None
         mapper.SetInputConnection(reader.GetOutputPort())
-        reader.Update()
-        mapper.SetDataToWorldMatrix(reader.GetQFormMatrix())
+        # The file's best affine (sform, else qform, else nibabel's base affine).
+        mapper.SetDataToWorldMatrix(nifti.data_to_world(reader))
         if args.frame == "voxel":
-            mapper.SetDirectionToWorldMatrix(file_axes_to_world(reader))
+            mapper.SetDirectionToWorldMatrix(nifti.file_axes_to_world(reader))
         mapper.SetSliceOrientationToAxial()
         mapper.SetScaleFactor(0.9)
         if args.index is not None:

@@ -9,8 +9,10 @@ It renders twice:
   - without OpenGL through vtkSightlineImageRenderer, the batch path;
 and writes both PNGs to the output folder.
 
-Usage: /usr/bin/python3 render_tractography.py [--output DIR] [--size W H] [--subject N]
-Needs python3-dipy and python3-nibabel (Debian packages).
+Usage: /usr/bin/python3 render_tractography.py [FILE ...] [--output DIR] [--size W H]
+         [--subject N] [--radius MM]
+FILE: your own .trk (TrackVis) or .tck (MRtrix3) files instead of DIPY's bundles.
+Needs python3-dipy (for the default data file).
 """
 import argparse
 import os
@@ -20,9 +22,10 @@ import zipfile
 
 import numpy as np
 import vtk
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 import sightline
+from sightline.view import ViewError, lower_extension, read_tubes
 
 BUNDLES = ("AF_L", "CST_R", "CC_ForcepsMajor")
 
@@ -36,31 +39,34 @@ def find_bundles_zip():
     return path
 
 
-def load_streamlines(subject):
-    """Vertices and unit tangents of every streamline of one subject's bundles (RAS+ mm)."""
-    import nibabel as nib
-
-    vertices, tangents = [], []
-    with tempfile.TemporaryDirectory() as folder:
-        with zipfile.ZipFile(find_bundles_zip()) as archive:
-            archive.extractall(folder)
-        for bundle in BUNDLES:
-            path = os.path.join(folder, f"sub_{subject}", f"{bundle}.trk")
-            for streamline in nib.streamlines.load(path).streamlines:
-                points = np.asarray(streamline, dtype=np.float64)
-                tangent = np.gradient(points, axis=0)
-                tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-12)
-                vertices.append(points)
-                tangents.append(tangent)
-    return np.concatenate(vertices), np.concatenate(tangents)
+def load_streamlines(paths):
+    """Vertices (RAS+ mm) and direction colours of every streamline of the .trk/.tck files,
+    read with Sightline's readers by sightline-view's loader; a bad file exits naming it."""
+    vertices, colors = [], []
+    for path in paths:
+        if lower_extension(path) not in (".trk", ".tck"):
+            raise SystemExit(f"error: {path}: not a .trk or .tck streamline file")
+        try:
+            lines = read_tubes(path)
+        except ViewError as error:
+            raise SystemExit(f"error: {error}") from None
+        vertices.append(vtk_to_numpy(lines.GetPoints().GetData()).astype(np.float64))
+        colors.append(vtk_to_numpy(lines.GetPointData().GetScalars()))
+    return np.concatenate(vertices), np.concatenate(colors)
 
 
-def make_sphere_cloud(vertices, tangents, radius):
+def bundle_files(folder, subject):
+    with zipfile.ZipFile(find_bundles_zip()) as archive:
+        archive.extractall(folder)
+    return [os.path.join(folder, f"sub_{subject}", f"{bundle}.trk") for bundle in BUNDLES]
+
+
+def make_sphere_cloud(vertices, direction_colors, radius):
     points = vtk.vtkPoints()
     points.SetData(numpy_to_vtk(vertices, deep=True))
     cloud = vtk.vtkPolyData()
     cloud.SetPoints(points)
-    colors = numpy_to_vtk((np.abs(tangents) * 255).astype(np.uint8), deep=True)
+    colors = numpy_to_vtk(direction_colors, deep=True)
     colors.SetName("direction")
     cloud.GetPointData().SetScalars(colors)
     radii = numpy_to_vtk(np.full(len(vertices), radius), deep=True)
@@ -71,6 +77,8 @@ def make_sphere_cloud(vertices, tangents, radius):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("files", nargs="*", metavar="FILE",
+                        help="your own .trk or .tck files (default: DIPY's bundles)")
     parser.add_argument("--output", default="output", help="folder for the images (default: output)")
     parser.add_argument("--size", type=int, nargs=2, default=(1600, 1000), metavar=("W", "H"))
     parser.add_argument("--subject", type=int, default=1, choices=range(1, 6))
@@ -79,8 +87,14 @@ def main():
     os.makedirs(args.output, exist_ok=True)
     width, height = args.size
 
-    vertices, tangents = load_streamlines(args.subject)
-    cloud = make_sphere_cloud(vertices, tangents, args.radius)
+    if args.files:
+        vertices, colors = load_streamlines(args.files)
+        source = ", ".join(os.path.basename(path) for path in args.files)
+    else:
+        with tempfile.TemporaryDirectory() as folder:
+            vertices, colors = load_streamlines(bundle_files(folder, args.subject))
+        source = f"subject {args.subject}: {', '.join(BUNDLES)}"
+    cloud = make_sphere_cloud(vertices, colors, args.radius)
 
     mapper = sightline.vtkSightlineSphereMapper()
     mapper.SetInputDataObject(cloud)
@@ -142,7 +156,7 @@ def main():
     writer.SetFileName(batch_png)
     writer.Write()
 
-    print(f"spheres: {mapper.GetNumberOfPrimitives()} (subject {args.subject}: {', '.join(BUNDLES)})")
+    print(f"spheres: {mapper.GetNumberOfPrimitives()} ({source})")
     print(f"BVH build: {mapper.GetLastBuildSeconds() * 1e3:.1f} ms")
     print(f"window frame ({width}x{height}, first render incl. BVH and GL setup): {window_seconds * 1e3:.1f} ms")
     print(f"GL-free frame: {batch_seconds * 1e3:.1f} ms (ray tracing {mapper.GetLastFrameSeconds() * 1e3:.1f} ms)")

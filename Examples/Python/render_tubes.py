@@ -11,9 +11,11 @@ Two images, each rendered in a VTK window (offscreen) and without OpenGL:
     fasciculus and forceps major (opacity 0.3): only the outer surfaces of each translucent
     bundle are blended, where tubes overlap there are no interior surfaces.
 
-Usage: /usr/bin/python3 render_tubes.py [--output DIR] [--size W H] [--subject N]
+Usage: /usr/bin/python3 render_tubes.py [FILE ...] [--output DIR] [--size W H] [--subject N]
          [--radius MM] [--opacity A]
-Needs python3-dipy (for the data file).
+FILE: your own .trk, .tck or .swc files instead of DIPY's bundles (SWC neurons keep their
+radii); the first is drawn opaque inside the others in the translucent image.
+Needs python3-dipy (for the default data file).
 """
 import argparse
 import os
@@ -21,11 +23,10 @@ import tempfile
 import time
 import zipfile
 
-import numpy as np
 import vtk
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 import sightline
+from sightline.view import ViewError, read_tubes
 
 BUNDLES = ("AF_L", "CST_R", "CC_ForcepsMajor")
 
@@ -39,34 +40,24 @@ def find_bundles_zip():
     return path
 
 
-def read_bundle(folder, subject, bundle):
-    """One bundle as vtkPolyData polylines (RAS+ mm) with direction colours."""
-    reader = sightline.vtkSightlineTrackVisReader()
-    reader.SetFileName(os.path.join(folder, f"sub_{subject}", f"{bundle}.trk"))
-    reader.Update()
-    lines = vtk.vtkPolyData()
-    lines.DeepCopy(reader.GetOutput())
-    points = vtk_to_numpy(lines.GetPoints().GetData()).astype(np.float64)
-    tangents = np.zeros_like(points)
-    cells = lines.GetLines()
-    offsets = vtk_to_numpy(cells.GetOffsetsArray())
-    connectivity = vtk_to_numpy(cells.GetConnectivityArray())
-    for begin, end in zip(offsets[:-1], offsets[1:]):
-        ids = connectivity[begin:end]
-        if len(ids) > 1:
-            tangents[ids] = np.gradient(points[ids], axis=0)
-    tangents /= np.maximum(np.linalg.norm(tangents, axis=1, keepdims=True), 1e-12)
-    colors = numpy_to_vtk((np.abs(tangents) * 255).astype(np.uint8), deep=True)
-    colors.SetName("direction")
-    lines.GetPointData().SetScalars(colors)
-    return lines
+def read_file(path):
+    """One .trk/.tck bundle (polylines in RAS+ mm with direction colours) or .swc neuron, read
+    with Sightline's readers by sightline-view's loader; a bad file exits naming it."""
+    try:
+        return read_tubes(path)
+    except ViewError as error:
+        raise SystemExit(f"error: {error}") from None
 
 
 def tube_actor(lines, radius, opacity=1.0):
     mapper = sightline.vtkSightlineTubeMapper()
     mapper.SetInputDataObject(lines)
-    mapper.SetRadius(radius)
-    mapper.SetColorModeToDirectScalars()
+    if lines.GetPointData().GetArray("ParentIndex"):  # an SWC neuron: a tree with its radii
+        mapper.SetPredecessorArrayName("ParentIndex")
+        mapper.SetRadiusArrayName("Radius")
+    else:
+        mapper.SetRadius(radius)
+        mapper.SetColorModeToDirectScalars()
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     prop = actor.GetProperty()
@@ -124,6 +115,8 @@ def render_both(actors, extra_actors, width, height, background, name, output):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("files", nargs="*", metavar="FILE",
+                        help="your own .trk, .tck or .swc files (default: DIPY's bundles)")
     parser.add_argument("--output", default="output", help="folder for the images (default: output)")
     parser.add_argument("--size", type=int, nargs=2, default=(1600, 1000), metavar=("W", "H"))
     parser.add_argument("--subject", type=int, default=1, choices=range(1, 6))
@@ -136,15 +129,25 @@ def main():
     width, height = args.size
     background = (0.08, 0.08, 0.1)
 
-    with tempfile.TemporaryDirectory() as folder:
-        with zipfile.ZipFile(find_bundles_zip()) as archive:
-            archive.extractall(folder)
-        bundles = {name: read_bundle(folder, args.subject, name) for name in BUNDLES}
+    if args.files:  # the user's own files: the first opaque inside the others
+        names = [os.path.basename(path) for path in args.files]
+        if len(set(names)) != len(names):
+            names = args.files
+        bundles = {name: read_file(path) for name, path in zip(names, args.files)}
+        source = ", ".join(names)
+    else:
+        names = list(BUNDLES)
+        with tempfile.TemporaryDirectory() as folder:
+            with zipfile.ZipFile(find_bundles_zip()) as archive:
+                archive.extractall(folder)
+            bundles = {name: read_file(os.path.join(folder, f"sub_{args.subject}", f"{name}.trk"))
+                       for name in BUNDLES}
+        source = f"subject {args.subject}: {', '.join(BUNDLES)}"
 
     # Opaque: every bundle, plus an ordinary VTK outline actor in the window.
-    opaque = [tube_actor(bundles[name], args.radius) for name in BUNDLES]
+    opaque = [tube_actor(bundles[name], args.radius) for name in names]
     append = vtk.vtkAppendPolyData()
-    for name in BUNDLES:
+    for name in names:
         append.AddInputData(bundles[name])
     outline = vtk.vtkOutlineFilter()
     outline.SetInputConnection(append.GetOutputPort())
@@ -155,16 +158,18 @@ def main():
     outline_actor.GetProperty().SetColor(0.7, 0.7, 0.7)
     seconds = render_both(opaque, [outline_actor], width, height, background, "tubes_opaque", args.output)
 
-    # Translucent: the corticospinal tract opaque inside the other two bundles.
-    mixed = [tube_actor(bundles["CST_R"], args.radius),
-             tube_actor(bundles["AF_L"], args.radius, args.opacity),
-             tube_actor(bundles["CC_ForcepsMajor"], args.radius, args.opacity)]
+    # Translucent: the corticospinal tract (or the first file) opaque inside the others (a
+    # single file is drawn translucent on its own).
+    core = "CST_R" if not args.files else names[0]
+    mixed = [tube_actor(bundles[name], args.radius,
+                        1.0 if name == core and len(names) > 1 else args.opacity)
+             for name in [core] + [name for name in names if name != core]]
     translucent_seconds = render_both(mixed, [outline_actor], width, height, background,
                                       "tubes_translucent", args.output)
 
     links = sum(actor.GetMapper().GetNumberOfLinks() for actor in opaque)
-    lines = sum(bundles[name].GetNumberOfLines() for name in BUNDLES)
-    print(f"tubes: {lines} streamlines, {links} control points (subject {args.subject}: {', '.join(BUNDLES)})")
+    lines = sum(bundles[name].GetNumberOfLines() for name in names)
+    print(f"tubes: {lines} streamlines, {links} control points ({source})")
     print(f"opaque: window {seconds[0] * 1e3:.1f} ms (first render incl. BVH and GL setup), GL-free {seconds[1] * 1e3:.1f} ms")
     print(f"translucent (opacity {args.opacity}): window {translucent_seconds[0] * 1e3:.1f} ms, GL-free {translucent_seconds[1] * 1e3:.1f} ms")
     print(f"wrote {args.output}/tubes_opaque_window.png, tubes_opaque_gl_free.png, "

@@ -15,4 +15,12 @@ run("${EXAMPLE_BUILD}/SphereCloud" --size 160 120 --output "${EXAMPLE_BUILD}/ima
 if(PYTHON)
   run(${CMAKE_COMMAND} -E env "PYTHONPATH=${PREFIX}/${PYTHON_DESTINATION}"
     "${PYTHON}" -c "import sightline; m = sightline.vtkSightlineSphereMapper(); print('python', sightline.__version__, m.GetClassName())")
+  # The installed command finds its package next to itself (no PYTHONPATH) and renders a
+  # streamline file without a window.
+  run(${CMAKE_COMMAND} -E env --unset=PYTHONPATH --unset=DISPLAY "${PREFIX}/bin/sightline-view"
+    /usr/lib/python3/dist-packages/nibabel/tests/data/standard.trk
+    --output "${EXAMPLE_BUILD}/images/sightline_view.png" --size 160 120)
+  if(NOT EXISTS "${EXAMPLE_BUILD}/images/sightline_view.png")
+    message(FATAL_ERROR "the installed sightline-view wrote no image")
+  endif()
 endif()

@@ -13,6 +13,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 import vtk
 
 import sightline
+from sightline import nifti
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLES = os.path.normpath(os.path.join(HERE, os.pardir, os.pardir, "Examples", "Python"))
@@ -44,7 +45,7 @@ def read_sh(name):
 def glyph_actor(reader, configure=None):
     mapper = sightline.vtkSightlineSHGlyphMapper()
     mapper.SetInputConnection(reader.GetOutputPort())
-    mapper.SetDataToWorldMatrix(reader.GetQFormMatrix())
+    mapper.SetDataToWorldMatrix(nifti.data_to_world(reader))
     mapper.SetBasisToDIPY()
     mapper.SetSliceOrientationToAxial()
     if configure:

@@ -52,7 +52,8 @@ public:
     if (this->Compressed)
     {
       std::memset(&this->Stream, 0, sizeof(this->Stream));
-      this->Ready = inflateInit2(&this->Stream, 15 + 16) == Z_OK;
+      this->Initialized = inflateInit2(&this->Stream, 15 + 16) == Z_OK;
+      this->Ready = this->Initialized;
       this->Stream.next_in =
         reinterpret_cast<Bytef*>(const_cast<char*>(this->Bytes.data()));
       this->Stream.avail_in = static_cast<uInt>(
@@ -62,7 +63,7 @@ public:
   }
   ~Source()
   {
-    if (this->Compressed && this->Ready)
+    if (this->Initialized)
     {
       inflateEnd(&this->Stream);
     }
@@ -179,7 +180,8 @@ private:
 
   const std::string& Bytes;
   const bool Compressed;
-  bool Ready = false;
+  bool Initialized = false; // inflateEnd is owed
+  bool Ready = false;       // more can be inflated
   z_stream Stream;
   std::vector<unsigned char> Window;
   std::size_t WindowAt = 0;

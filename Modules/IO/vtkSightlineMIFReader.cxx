@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -445,6 +446,31 @@ bool ParseHeader(Source& source, Header& header, std::string& error)
   }
   return true;
 }
+
+// The input's bytes, the stream over them, positioned after the header, and the header.
+struct Input
+{
+  std::string Bytes;
+  std::unique_ptr<Source> Stream;
+  Header Parsed;
+};
+
+// Loads the file (or the input string) and parses its header; false with the whole message.
+bool OpenInput(const char* fileName, bool fromString, const std::string& inputString,
+  Input& input, std::string& error)
+{
+  if (!LoadInput(fileName, fromString, inputString, input.Bytes, error))
+  {
+    return false;
+  }
+  input.Stream.reset(new Source(input.Bytes));
+  if (!ParseHeader(*input.Stream, input.Parsed, error))
+  {
+    error = InputName(fileName, fromString) + ": " + error;
+    return false;
+  }
+  return true;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -500,20 +526,14 @@ int vtkSightlineMIFReader::RequestInformation(
   this->TransformMatrix->Identity();
   this->SlicesReversed = false;
   this->DataTypeName.clear();
-  std::string bytes, error;
-  if (!LoadInput(this->FileName, this->ReadFromInputString, this->InputString, bytes, error))
+  Input input;
+  std::string error;
+  if (!OpenInput(this->FileName, this->ReadFromInputString, this->InputString, input, error))
   {
     vtkErrorMacro(<< error);
     return 0;
   }
-  Source source(bytes);
-  Header header;
-  if (!ParseHeader(source, header, error))
-  {
-    vtkErrorMacro(<< InputName(this->FileName, this->ReadFromInputString)
-                  << ": " << error);
-    return 0;
-  }
+  const Header& header = input.Parsed;
   this->DataTypeName = header.DataType;
 
   // Left-handed grid: reverse z so that the matrix stays a rotation (vtkNIFTIImageReader's
@@ -570,19 +590,15 @@ int vtkSightlineMIFReader::RequestData(
   // The header is read again: the file may have changed since RequestInformation, and the
   // two must agree for the data to be read correctly.
   const std::string name = InputName(this->FileName, this->ReadFromInputString);
-  std::string bytes, error;
-  if (!LoadInput(this->FileName, this->ReadFromInputString, this->InputString, bytes, error))
+  Input input;
+  std::string error;
+  if (!OpenInput(this->FileName, this->ReadFromInputString, this->InputString, input, error))
   {
     vtkErrorMacro(<< error);
     return 0;
   }
-  Source source(bytes);
-  Header header;
-  if (!ParseHeader(source, header, error))
-  {
-    vtkErrorMacro(<< name << ": " << error);
-    return 0;
-  }
+  const Header& header = input.Parsed;
+  Source& source = *input.Stream;
   const vtkIdType nx = header.Dim[0], ny = header.Dim[1], nz = header.Dim[2],
                   nc = header.Dim[3];
   const std::size_t size = static_cast<std::size_t>(header.Bytes);

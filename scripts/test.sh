@@ -3,7 +3,8 @@
 # install), then the sanitizer job: the kernel, the readers and the mappers built with clang,
 # AddressSanitizer and UndefinedBehaviorSanitizer in $SIGHTLINE_SANITIZE_BUILD_DIR (default
 # build-asan), their C++ tests run there (kernel, IO, rendering; not the Python ones, whose
-# interpreter is not instrumented), and a few seconds of each reader's fuzz target.
+# interpreter is not instrumented; leak checking for all but the window tests), and a few
+# seconds of each reader's fuzz target.
 # SIGHTLINE_SANITIZE=0 skips the sanitizer job. Extra arguments go to the first ctest.
 #
 # Rendering tests open VTK windows, so ctest runs with a virtual X server of our own. It is
@@ -59,11 +60,17 @@ if [ "${SIGHTLINE_SANITIZE:-1}" != 0 ]; then
   cmake --build "$asan_build" --parallel "$(nproc)"
   asan_built=$(date +%s)
   # Any report fails its test: UBSan halts on the first finding, ASan and LeakSanitizer
-  # always do.
+  # always do. The window tests run without LeakSanitizer: Mesa's driver, loaded and unloaded
+  # by VTK, leaves small allocations that cannot even be attributed (its module is gone by
+  # then); ASan and UBSan still check them.
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   (cd "$asan_build" &&
     ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:check_initialization_order=1 \
-    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --output-on-failure --timeout 900 -L 'kernel|io|rendering|fuzz' -LE 'python|install') ||
+    ctest --output-on-failure --timeout 900 -L 'kernel|io|fuzz' -LE 'python|install|display') ||
+    status=$?
+  (cd "$asan_build" &&
+    ASAN_OPTIONS=detect_leaks=0:strict_string_checks=1:check_initialization_order=1 \
+    ctest --output-on-failure --timeout 900 -L rendering -LE 'python|install') ||
     status=$?
   echo "sanitizer build: $((asan_built - tested)) s, sanitizer tests: $(($(date +%s) - asan_built)) s"
 fi

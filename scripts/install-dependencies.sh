@@ -11,6 +11,7 @@ packages=(
   python3-numpy python3-matplotlib    # Python tests and benchmark plots
   python3-dipy python3-nibabel        # real data: DIPY's tractography, NIfTI/TrackVis readers
   mrtrix3                             # sh2amp: an independent reference for the MRtrix3 SH basis
+  clang-14 libclang-rt-14-dev         # sanitizer build and libFuzzer targets (scripts/test.sh)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -11,188 +11,187 @@
 
 #include "vtk_zlib.h"
 
+#include "SightlineMRtrixHeader.h"
+#include "SightlineReaderInput.h"
+
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <sstream>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkSightlineMIFReader);
 
 namespace
 {
-// The header lines end with this one; the data start at the offset of the `file` entry.
+using namespace sightline_io;
+
 constexpr const char* MIFMagic = "mrtrix image";
-// A header is a few hundred bytes; this cap stops a binary file without newlines from being
-// read whole as "one line".
-constexpr std::size_t MaxHeaderBytes = 16u << 20;
 constexpr int MaxAxes = 4;
+// Deflate never compresses more than about 1032:1, so a gzip stream of n bytes inflates to at
+// most 1032 n (plus a little for tiny streams): a bound on what a .mif.gz can hold, known
+// before anything is inflated.
+constexpr long long MaxDeflateRatio = 1032;
+// Compressed data are inflated into the buffer this many bytes at a time, so that a file that
+// promises more than it holds is found out before much memory is taken.
+constexpr std::size_t InflateStep = 16u << 20;
 
-// One gzFile reads both kinds of file: zlib passes data that is not gzip through unchanged
-// ("transparent" mode), so .mif and .mif.gz share every code path.
-struct GzCloser
+/// The file's bytes as a stream: as they are, or inflated on the fly when they are gzip
+/// (one member or several, as gzip and MRtrix write them).
+class Source
 {
-  void operator()(gzFile_s* file) const
+public:
+  explicit Source(const std::string& bytes)
+    : Bytes(bytes)
+    , Compressed(bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+        static_cast<unsigned char>(bytes[1]) == 0x8b)
   {
-    if (file)
+    if (this->Compressed)
     {
-      gzclose(file);
+      std::memset(&this->Stream, 0, sizeof(this->Stream));
+      this->Initialized = inflateInit2(&this->Stream, 15 + 16) == Z_OK;
+      this->Ready = this->Initialized;
+      this->Stream.next_in =
+        reinterpret_cast<Bytef*>(const_cast<char*>(this->Bytes.data()));
+      this->Stream.avail_in = static_cast<uInt>(
+        std::min<std::size_t>(this->Bytes.size(), std::numeric_limits<uInt>::max()));
+      this->Window.resize(1u << 16);
     }
   }
+  ~Source()
+  {
+    if (this->Initialized)
+    {
+      inflateEnd(&this->Stream);
+    }
+  }
+  Source(const Source&) = delete;
+  Source& operator=(const Source&) = delete;
+
+  bool IsCompressed() const { return this->Compressed; }
+  /// Bytes consumed so far (inflated bytes for gzip).
+  std::size_t Position() const { return this->At; }
+  /// What the stored bytes could hold at most.
+  long long MaxSize() const
+  {
+    const long long stored = static_cast<long long>(this->Bytes.size());
+    return this->Compressed ? stored * MaxDeflateRatio + 1024 : stored;
+  }
+  /// A message from zlib when the stream is damaged, else "".
+  const std::string& Error() const { return this->ZError; }
+
+  /// The next byte, or -1 at the end.
+  int Next()
+  {
+    if (!this->Compressed)
+    {
+      return this->At < this->Bytes.size() ? static_cast<unsigned char>(this->Bytes[this->At++])
+                                           : -1;
+    }
+    if (this->WindowAt == this->WindowEnd && !this->Fill())
+    {
+      return -1;
+    }
+    ++this->At;
+    return this->Window[this->WindowAt++];
+  }
+
+  /// Up to `size` bytes into `data`; fewer only at the end of the input.
+  std::size_t Read(unsigned char* data, std::size_t size)
+  {
+    std::size_t done = 0;
+    while (done < size)
+    {
+      if (!this->Compressed)
+      {
+        const std::size_t n = std::min(size - done, this->Bytes.size() - this->At);
+        std::memcpy(data + done, this->Bytes.data() + this->At, n);
+        this->At += n;
+        return done + n;
+      }
+      if (this->WindowAt == this->WindowEnd && !this->Fill())
+      {
+        break;
+      }
+      const std::size_t n = std::min(size - done, this->WindowEnd - this->WindowAt);
+      std::memcpy(data + done, this->Window.data() + this->WindowAt, n);
+      this->WindowAt += n;
+      this->At += n;
+      done += n;
+    }
+    return done;
+  }
+
+  /// Skips forward to `offset` (at or after the current position); false past the end.
+  bool SkipTo(std::size_t offset)
+  {
+    unsigned char scratch[4096];
+    while (this->At < offset)
+    {
+      if (this->Read(scratch, std::min(sizeof(scratch), offset - this->At)) == 0)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /// Uncompressed data may be used in place: the stored bytes from `offset`.
+  const unsigned char* StoredBytes(std::size_t offset) const
+  {
+    return reinterpret_cast<const unsigned char*>(this->Bytes.data()) + offset;
+  }
+
+private:
+  bool Fill()
+  {
+    this->WindowAt = this->WindowEnd = 0;
+    while (this->Ready && this->WindowEnd == 0)
+    {
+      if (this->Stream.avail_in == 0)
+      {
+        return false;
+      }
+      this->Stream.next_out = this->Window.data();
+      this->Stream.avail_out = static_cast<uInt>(this->Window.size());
+      const int status = inflate(&this->Stream, Z_NO_FLUSH);
+      this->WindowEnd = this->Window.size() - this->Stream.avail_out;
+      if (status == Z_STREAM_END)
+      {
+        // Another gzip member may follow; anything else after the stream is not data.
+        const bool member = this->Stream.avail_in >= 2 && this->Stream.next_in[0] == 0x1f &&
+          this->Stream.next_in[1] == 0x8b;
+        if (!member || inflateReset(&this->Stream) != Z_OK)
+        {
+          this->Ready = false;
+        }
+      }
+      else if (status != Z_OK)
+      {
+        this->ZError = this->Stream.msg ? this->Stream.msg : "damaged gzip stream";
+        this->Ready = false;
+      }
+    }
+    return this->WindowEnd > 0;
+  }
+
+  const std::string& Bytes;
+  const bool Compressed;
+  bool Initialized = false; // inflateEnd is owed
+  bool Ready = false;       // more can be inflated
+  z_stream Stream;
+  std::vector<unsigned char> Window;
+  std::size_t WindowAt = 0;
+  std::size_t WindowEnd = 0;
+  std::size_t At = 0;
+  std::string ZError;
 };
-using GzHandle = std::unique_ptr<gzFile_s, GzCloser>;
 
-GzHandle OpenGz(const char* fileName)
-{
-  GzHandle file(gzopen(fileName, "rb"));
-  if (file)
-  {
-    gzbuffer(file.get(), 1u << 18);
-  }
-  return file;
-}
-
-// Reads one '\n'-terminated line (without it, nor a trailing '\r'); false at end of file or
-// when the line exceeds the cap.
-bool ReadLine(gzFile file, std::string& line, std::size_t& budget)
-{
-  line.clear();
-  for (;;)
-  {
-    const int c = gzgetc(file);
-    if (c == -1)
-    {
-      return !line.empty();
-    }
-    if (c == '\n')
-    {
-      break;
-    }
-    if (budget-- == 0)
-    {
-      return false;
-    }
-    line.push_back(static_cast<char>(c));
-  }
-  if (!line.empty() && line.back() == '\r')
-  {
-    line.pop_back();
-  }
-  return true;
-}
-
-std::string Trim(const std::string& text)
-{
-  const auto first = text.find_first_not_of(" \t");
-  if (first == std::string::npos)
-  {
-    return std::string();
-  }
-  const auto last = text.find_last_not_of(" \t");
-  return text.substr(first, last - first + 1);
-}
-
-std::vector<std::string> SplitList(const std::string& text)
-{
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ','))
-  {
-    items.push_back(Trim(item));
-  }
-  return items;
-}
-
-bool ParseDouble(const std::string& text, double& value)
-{
-  if (text.empty())
-  {
-    return false;
-  }
-  char* end = nullptr;
-  value = std::strtod(text.c_str(), &end);
-  return end && *end == '\0';
-}
-
-bool ParseInteger(const std::string& text, long long& value)
-{
-  if (text.empty())
-  {
-    return false;
-  }
-  char* end = nullptr;
-  value = std::strtoll(text.c_str(), &end, 10);
-  return end && *end == '\0';
-}
-
-bool HostIsLittleEndian()
-{
-  const std::uint16_t probe = 1;
-  unsigned char first;
-  std::memcpy(&first, &probe, 1);
-  return first == 1;
-}
-
-// The stored element types this reader converts to float.
-enum class Stored
-{
-  Int8,
-  UInt8,
-  Int16,
-  UInt16,
-  Int32,
-  UInt32,
-  Float32,
-  Float64
-};
-
-// Parses MRtrix's datatype names ("Float32LE", "UInt8", "Int16BE", ...).
-bool ParseDataType(const std::string& name, Stored& type, int& bytes, bool& swap)
-{
-  static const std::array<std::pair<const char*, std::pair<Stored, int>>, 8> types = { {
-    { "int8", { Stored::Int8, 1 } },
-    { "uint8", { Stored::UInt8, 1 } },
-    { "int16", { Stored::Int16, 2 } },
-    { "uint16", { Stored::UInt16, 2 } },
-    { "int32", { Stored::Int32, 4 } },
-    { "uint32", { Stored::UInt32, 4 } },
-    { "float32", { Stored::Float32, 4 } },
-    { "float64", { Stored::Float64, 8 } },
-  } };
-  std::string lower(name);
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  // No suffix means the writing machine's order, which MRtrix assumes is this one.
-  bool little = HostIsLittleEndian();
-  std::string base = lower;
-  if (lower.size() > 2 && (lower.compare(lower.size() - 2, 2, "le") == 0 ||
-                            lower.compare(lower.size() - 2, 2, "be") == 0))
-  {
-    little = lower.compare(lower.size() - 2, 2, "le") == 0;
-    base = lower.substr(0, lower.size() - 2);
-  }
-  for (const auto& entry : types)
-  {
-    if (base == entry.first)
-    {
-      type = entry.second.first;
-      bytes = entry.second.second;
-      // Byte order only matters for multi-byte types (and "UInt8LE" is not a thing).
-      swap = bytes > 1 && little != HostIsLittleEndian();
-      return bytes > 1 || base == lower;
-    }
-  }
-  return false;
-}
-
-/// The value of type T stored in `buffer` (native byte order; memcpy avoids aliasing issues).
+/// The value of type T stored in `buffer` (host byte order; memcpy avoids alignment issues).
 template <class T>
 double Load(const unsigned char* buffer)
 {
@@ -201,30 +200,28 @@ double Load(const unsigned char* buffer)
   return static_cast<double>(value);
 }
 
-double Convert(const unsigned char* bytes, Stored type, int size, bool swap)
+double Convert(const unsigned char* bytes, const MRtrixDataType& type)
 {
   unsigned char buffer[8];
-  for (int b = 0; b < size; ++b)
+  std::memcpy(buffer, bytes, static_cast<std::size_t>(type.Bytes));
+  ToHostByteOrder(buffer, 1, type);
+  switch (type.Type)
   {
-    buffer[b] = swap ? bytes[size - 1 - b] : bytes[b];
-  }
-  switch (type)
-  {
-    case Stored::Int8:
+    case MRtrixType::Int8:
       return Load<std::int8_t>(buffer);
-    case Stored::UInt8:
+    case MRtrixType::UInt8:
       return Load<std::uint8_t>(buffer);
-    case Stored::Int16:
+    case MRtrixType::Int16:
       return Load<std::int16_t>(buffer);
-    case Stored::UInt16:
+    case MRtrixType::UInt16:
       return Load<std::uint16_t>(buffer);
-    case Stored::Int32:
+    case MRtrixType::Int32:
       return Load<std::int32_t>(buffer);
-    case Stored::UInt32:
+    case MRtrixType::UInt32:
       return Load<std::uint32_t>(buffer);
-    case Stored::Float32:
+    case MRtrixType::Float32:
       return Load<float>(buffer);
-    case Stored::Float64:
+    case MRtrixType::Float64:
       return Load<double>(buffer);
   }
   return 0.0;
@@ -236,10 +233,9 @@ double Determinant3(const double m[3][3])
     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
-} // namespace
 
 // Everything the data read needs from the header, normalised to 4 axes (missing ones size 1).
-struct vtkSightlineMIFReader::Header
+struct Header
 {
   std::array<vtkIdType, MaxAxes> Dim{ { 1, 1, 1, 1 } };
   std::array<double, 3> Spacing{ { 1.0, 1.0, 1.0 } };
@@ -247,14 +243,235 @@ struct vtkSightlineMIFReader::Header
   std::array<vtkIdType, MaxAxes> Stride{ { 0, 0, 0, 0 } };
   std::array<bool, MaxAxes> Reversed{ { false, false, false, false } };
   double Transform[3][4] = { { 1, 0, 0, 0 }, { 0, 1, 0, 0 }, { 0, 0, 1, 0 } };
-  Stored Type = Stored::Float32;
-  int Bytes = 4;
-  bool Swap = false;
+  MRtrixDataType Type;
   double ScaleOffset = 0.0;
   double ScaleMultiplier = 1.0;
   std::string DataType;
   long long DataOffset = 0;
+  // Voxel values (product of all dims) and their bytes, both checked against overflow.
+  long long Count = 0;
+  long long Bytes = 0;
 };
+
+// Parses and checks the header of the stream; false with `error` (without the input's name).
+bool ParseHeader(Source& source, Header& header, std::string& error)
+{
+  MRtrixHeader text;
+  if (!ReadMRtrixHeader([&source] { return source.Next(); }, MIFMagic, "MRtrix image", text, error))
+  {
+    if (source.IsCompressed() && !source.Error().empty())
+    {
+      error += " (gzip: " + source.Error() + ")";
+    }
+    return false;
+  }
+  const std::vector<std::string> dim = SplitList(text.Value("dim"));
+  const std::vector<std::string> vox = SplitList(text.Value("vox"));
+  const std::vector<std::string> layout = SplitList(text.Value("layout"));
+  const std::string datatype = text.Value("datatype");
+  const std::vector<std::string> fileEntries = text.Values("file");
+  std::vector<std::string> transform;
+  for (const auto& row : text.Values("transform"))
+  {
+    for (const auto& item : SplitList(row))
+    {
+      transform.push_back(item);
+    }
+  }
+
+  // dim: at least 2 axes; beyond the 4th only size 1 is accepted (nothing to map it to).
+  if (dim.size() < 2)
+  {
+    error = "missing or malformed 'dim' entry.";
+    return false;
+  }
+  const int axes = static_cast<int>(dim.size());
+  std::vector<long long> sizes(axes);
+  for (int a = 0; a < axes; ++a)
+  {
+    if (!ParseInteger(dim[a], sizes[a]) || sizes[a] < 1 ||
+      sizes[a] > std::numeric_limits<int>::max())
+    {
+      error = "invalid size '" + Quote(dim[a]) + "' of axis " + std::to_string(a) +
+        " in 'dim' (1 to 2147483647).";
+      return false;
+    }
+    if (a >= MaxAxes && sizes[a] != 1)
+    {
+      error = "the image has " + std::to_string(axes) + " axes (dim " + dim[a] + " along axis " +
+        std::to_string(a) + "); only images of up to 4 axes are supported.";
+      return false;
+    }
+    if (a < MaxAxes)
+    {
+      header.Dim[a] = static_cast<vtkIdType>(sizes[a]);
+    }
+  }
+
+  // vox: the spacing of the three spatial axes (the 4th may be anything, even NaN).
+  if (vox.size() != dim.size())
+  {
+    error = "'vox' has " + std::to_string(vox.size()) + " entries for " +
+      std::to_string(dim.size()) + " axes.";
+    return false;
+  }
+  for (int a = 0; a < std::min(axes, 3); ++a)
+  {
+    double spacing = 0.0;
+    if (!ParseDouble(vox[a], spacing) || !std::isfinite(spacing) || spacing == 0.0)
+    {
+      error = "invalid voxel size '" + Quote(vox[a]) + "' of axis " + std::to_string(a) + ".";
+      return false;
+    }
+    header.Spacing[a] = std::fabs(spacing);
+  }
+
+  // layout: one signed rank per axis ("+0" fastest); the ranks are a permutation of 0..n-1.
+  if (layout.size() != dim.size())
+  {
+    error = "'layout' has " + std::to_string(layout.size()) + " entries for " +
+      std::to_string(dim.size()) + " axes.";
+    return false;
+  }
+  std::vector<int> axisOfRank(axes, -1);
+  for (int a = 0; a < axes; ++a)
+  {
+    long long value = 0;
+    const std::string& item = layout[a];
+    if (item.size() < 2 || (item[0] != '+' && item[0] != '-') ||
+      !std::isdigit(static_cast<unsigned char>(item[1])) ||
+      !ParseInteger(item.substr(1), value) || value < 0 || value >= axes ||
+      axisOfRank[value] != -1)
+    {
+      error = "invalid 'layout' entry '" + Quote(item) + "'.";
+      return false;
+    }
+    axisOfRank[value] = a;
+    if (a < MaxAxes)
+    {
+      header.Reversed[a] = item[0] == '-';
+    }
+  }
+  // Strides and the voxel count, checked: a product that wraps (65536 in four axes is 2^64)
+  // would leave a buffer too small for the indices computed from the sizes.
+  long long stride = 1;
+  for (int r = 0; r < axes; ++r)
+  {
+    const int a = axisOfRank[r];
+    if (a < MaxAxes)
+    {
+      header.Stride[a] = static_cast<vtkIdType>(stride);
+    }
+    if (__builtin_mul_overflow(stride, sizes[a], &stride))
+    {
+      error = "the image size " + text.Value("dim") + " overflows 64-bit integers.";
+      return false;
+    }
+  }
+  header.Count = stride;
+
+  if (!ParseDataType(datatype, header.Type))
+  {
+    error = "unsupported datatype '" + Quote(datatype) +
+      "' (supported: [U]Int8, [U]Int16, [U]Int32, Float32, Float64, with LE/BE suffix).";
+    return false;
+  }
+  header.DataType = datatype;
+  if (__builtin_mul_overflow(header.Count, static_cast<long long>(header.Type.Bytes),
+        &header.Bytes))
+  {
+    error = "the image size " + text.Value("dim") + " in " + datatype +
+      " overflows 64-bit byte counts.";
+    return false;
+  }
+
+  const std::vector<std::string> scaling = SplitList(text.Value("scaling"));
+  if (!scaling.empty() &&
+    (scaling.size() != 2 || !ParseDouble(scaling[0], header.ScaleOffset) ||
+      !ParseDouble(scaling[1], header.ScaleMultiplier)))
+  {
+    error = "malformed 'scaling' entry '" + Quote(text.Value("scaling")) + "'.";
+    return false;
+  }
+
+  if (!transform.empty())
+  {
+    if (transform.size() != 12)
+    {
+      error = "'transform' has " + std::to_string(transform.size()) +
+        " numbers; 3 rows of 4 are needed.";
+      return false;
+    }
+    for (int i = 0; i < 12; ++i)
+    {
+      if (!ParseDouble(transform[i], header.Transform[i / 4][i % 4]) ||
+        !std::isfinite(header.Transform[i / 4][i % 4]))
+      {
+        error = "invalid 'transform' value '" + Quote(transform[i]) + "'.";
+        return false;
+      }
+    }
+  }
+
+  // file: ". OFFSET" is the only form this reader handles (data in this file, after the header).
+  if (fileEntries.size() != 1)
+  {
+    error = std::to_string(fileEntries.size()) +
+      " 'file' entries; exactly one (\". OFFSET\") is supported.";
+    return false;
+  }
+  if (!ParseDataFileEntry(fileEntries[0], header.DataOffset))
+  {
+    error = "unsupported 'file' entry '" + Quote(fileEntries[0]) +
+      "': only data in the same file (\". OFFSET\") is supported.";
+    return false;
+  }
+  if (header.DataOffset < static_cast<long long>(text.Size))
+  {
+    error = "the data offset " + std::to_string(header.DataOffset) +
+      " lies inside the header, which ends at byte " + std::to_string(text.Size) + ".";
+    return false;
+  }
+  // Checked against what the file can hold before any buffer is allocated.
+  const long long available = source.MaxSize() - header.DataOffset;
+  if (header.Bytes > available)
+  {
+    error = "the file is truncated: the header promises " + std::to_string(header.Bytes) + " bytes of " +
+      Quote(datatype) + " data at offset " + std::to_string(header.DataOffset) + ", but " +
+      (source.IsCompressed() ? "a gzip stream of this length cannot hold them"
+                             : "the file has only " +
+            std::to_string(std::max(0LL, available)) + " bytes there") +
+      " (truncated file?).";
+    return false;
+  }
+  return true;
+}
+
+// The input's bytes, the stream over them, positioned after the header, and the header.
+struct Input
+{
+  std::string Bytes;
+  std::unique_ptr<Source> Stream;
+  Header Parsed;
+};
+
+// Loads the file (or the input string) and parses its header; false with the whole message.
+bool OpenInput(const char* fileName, bool fromString, const std::string& inputString,
+  Input& input, std::string& error)
+{
+  if (!LoadInput(fileName, fromString, inputString, input.Bytes, error))
+  {
+    return false;
+  }
+  input.Stream.reset(new Source(input.Bytes));
+  if (!ParseHeader(*input.Stream, input.Parsed, error))
+  {
+    error = InputName(fileName, fromString) + ": " + error;
+    return false;
+  }
+  return true;
+}
+} // namespace
 
 //------------------------------------------------------------------------------
 vtkSightlineMIFReader::vtkSightlineMIFReader()
@@ -270,6 +487,16 @@ vtkSightlineMIFReader::~vtkSightlineMIFReader()
 }
 
 //------------------------------------------------------------------------------
+void vtkSightlineMIFReader::SetInputString(const std::string& bytes)
+{
+  if (bytes != this->InputString)
+  {
+    this->InputString = bytes;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 vtkMatrix4x4* vtkSightlineMIFReader::GetTransformMatrix()
 {
   return this->TransformMatrix;
@@ -278,261 +505,35 @@ vtkMatrix4x4* vtkSightlineMIFReader::GetTransformMatrix()
 //------------------------------------------------------------------------------
 int vtkSightlineMIFReader::CanReadFile(const char* fileName)
 {
-  if (!fileName)
+  std::string bytes, error;
+  if (!fileName || !LoadInput(fileName, false, std::string(), bytes, error))
   {
     return 0;
   }
-  GzHandle file = OpenGz(fileName);
+  Source source(bytes);
   std::string line;
-  std::size_t budget = 64;
-  return file && ReadLine(file.get(), line, budget) && line == MIFMagic ? 1 : 0;
-}
-
-//------------------------------------------------------------------------------
-bool vtkSightlineMIFReader::ReadHeader(Header& header)
-{
-  const std::string name = this->FileName ? this->FileName : "";
-  if (name.empty())
+  for (int c = source.Next(); c >= 0 && c != '\n' && line.size() < 64; c = source.Next())
   {
-    vtkErrorMacro(<< "No FileName was set.");
-    return false;
+    line.push_back(static_cast<char>(c));
   }
-  GzHandle file = OpenGz(name.c_str());
-  if (!file)
-  {
-    vtkErrorMacro(<< "Cannot open the MRtrix image '" << name << "' (missing or unreadable).");
-    return false;
-  }
-  std::size_t budget = MaxHeaderBytes;
-  std::string line;
-  if (!ReadLine(file.get(), line, budget) || line != MIFMagic)
-  {
-    vtkErrorMacro(<< "'" << name << "' is not an MRtrix image: its first line is not \""
-                  << MIFMagic << "\".");
-    return false;
-  }
-
-  std::vector<std::string> dim, vox, layout, transform, fileEntries, scaling;
-  std::string datatype;
-  bool ended = false;
-  while (ReadLine(file.get(), line, budget))
-  {
-    if (line == "END")
-    {
-      ended = true;
-      break;
-    }
-    const std::string content = Trim(line.substr(0, line.find('#')));
-    if (content.empty())
-    {
-      continue;
-    }
-    const auto colon = content.find(':');
-    if (colon == std::string::npos)
-    {
-      vtkErrorMacro(<< "'" << name << "': malformed header line \"" << line << "\".");
-      return false;
-    }
-    std::string key = Trim(content.substr(0, colon));
-    std::transform(key.begin(), key.end(), key.begin(),
-      [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    const std::string value = Trim(content.substr(colon + 1));
-    if (key == "dim")
-    {
-      dim = SplitList(value);
-    }
-    else if (key == "vox")
-    {
-      vox = SplitList(value);
-    }
-    else if (key == "layout")
-    {
-      layout = SplitList(value);
-    }
-    else if (key == "datatype")
-    {
-      datatype = value;
-    }
-    else if (key == "transform")
-    {
-      // Three lines, one row each, in order.
-      for (const auto& item : SplitList(value))
-      {
-        transform.push_back(item);
-      }
-    }
-    else if (key == "file")
-    {
-      fileEntries.push_back(value);
-    }
-    else if (key == "scaling")
-    {
-      scaling = SplitList(value);
-    }
-    // Other keys (comments, command_history, dw_scheme, ...) carry nothing the image needs.
-  }
-  if (!ended)
-  {
-    vtkErrorMacro(<< "'" << name << "': the header has no END line (truncated file?).");
-    return false;
-  }
-
-  // dim: at least 2 axes; beyond the 4th only size 1 is accepted (nothing to map it to).
-  if (dim.size() < 2)
-  {
-    vtkErrorMacro(<< "'" << name << "': missing or malformed 'dim' entry.");
-    return false;
-  }
-  const int axes = static_cast<int>(dim.size());
-  std::vector<long long> sizes(axes);
-  for (int a = 0; a < axes; ++a)
-  {
-    if (!ParseInteger(dim[a], sizes[a]) || sizes[a] < 1 ||
-      sizes[a] > std::numeric_limits<int>::max())
-    {
-      vtkErrorMacro(<< "'" << name << "': invalid size '" << dim[a] << "' of axis " << a
-                    << " in 'dim'.");
-      return false;
-    }
-    if (a >= MaxAxes && sizes[a] != 1)
-    {
-      vtkErrorMacro(<< "'" << name << "' has " << axes << " axes (dim " << dim[a]
-                    << " along axis " << a << "); only images of up to 4 axes are supported.");
-      return false;
-    }
-    if (a < MaxAxes)
-    {
-      header.Dim[a] = static_cast<vtkIdType>(sizes[a]);
-    }
-  }
-
-  // vox: the spacing of the three spatial axes (the 4th may be anything, even NaN).
-  if (vox.size() != dim.size())
-  {
-    vtkErrorMacro(<< "'" << name << "': 'vox' has " << vox.size() << " entries for "
-                  << dim.size() << " axes.");
-    return false;
-  }
-  for (int a = 0; a < std::min(axes, 3); ++a)
-  {
-    double spacing = 0.0;
-    if (!ParseDouble(vox[a], spacing) || !std::isfinite(spacing) || spacing == 0.0)
-    {
-      vtkErrorMacro(<< "'" << name << "': invalid voxel size '" << vox[a] << "' of axis " << a
-                    << ".");
-      return false;
-    }
-    header.Spacing[a] = std::fabs(spacing);
-  }
-
-  // layout: one signed rank per axis ("+0" fastest); the ranks are a permutation of 0..n-1.
-  if (layout.size() != dim.size())
-  {
-    vtkErrorMacro(<< "'" << name << "': 'layout' has " << layout.size() << " entries for "
-                  << dim.size() << " axes.");
-    return false;
-  }
-  std::vector<int> rank(axes);
-  std::vector<int> axisOfRank(axes, -1);
-  for (int a = 0; a < axes; ++a)
-  {
-    long long value = 0;
-    const std::string& item = layout[a];
-    if (item.size() < 2 || (item[0] != '+' && item[0] != '-') ||
-      !ParseInteger(item.substr(1), value) || value < 0 || value >= axes ||
-      axisOfRank[value] != -1 || !std::isdigit(static_cast<unsigned char>(item[1])))
-    {
-      vtkErrorMacro(<< "'" << name << "': invalid 'layout' entry '" << item << "'.");
-      return false;
-    }
-    rank[a] = static_cast<int>(value);
-    axisOfRank[value] = a;
-    if (a < MaxAxes)
-    {
-      header.Reversed[a] = item[0] == '-';
-    }
-  }
-  vtkIdType stride = 1;
-  for (int r = 0; r < axes; ++r)
-  {
-    const int a = axisOfRank[r];
-    if (a < MaxAxes)
-    {
-      header.Stride[a] = stride;
-    }
-    stride *= static_cast<vtkIdType>(sizes[a]);
-  }
-
-  if (!ParseDataType(datatype, header.Type, header.Bytes, header.Swap))
-  {
-    vtkErrorMacro(<< "'" << name << "': unsupported datatype '" << datatype
-                  << "' (supported: [U]Int8, [U]Int16, [U]Int32, Float32, Float64, "
-                     "with LE/BE suffix).");
-    return false;
-  }
-  header.DataType = datatype;
-
-  if (!scaling.empty())
-  {
-    if (scaling.size() != 2 || !ParseDouble(scaling[0], header.ScaleOffset) ||
-      !ParseDouble(scaling[1], header.ScaleMultiplier))
-    {
-      vtkErrorMacro(<< "'" << name << "': malformed 'scaling' entry.");
-      return false;
-    }
-  }
-
-  if (!transform.empty())
-  {
-    if (transform.size() != 12)
-    {
-      vtkErrorMacro(<< "'" << name << "': 'transform' has " << transform.size()
-                    << " numbers; 3 rows of 4 are needed.");
-      return false;
-    }
-    for (int i = 0; i < 12; ++i)
-    {
-      if (!ParseDouble(transform[i], header.Transform[i / 4][i % 4]) ||
-        !std::isfinite(header.Transform[i / 4][i % 4]))
-      {
-        vtkErrorMacro(<< "'" << name << "': invalid 'transform' value '" << transform[i]
-                      << "'.");
-        return false;
-      }
-    }
-  }
-
-  // file: ". OFFSET" is the only form this reader handles (data in this file, after the header).
-  if (fileEntries.size() != 1)
-  {
-    vtkErrorMacro(<< "'" << name << "' has " << fileEntries.size()
-                  << " 'file' entries; exactly one (\". OFFSET\") is supported.");
-    return false;
-  }
-  std::istringstream entry(fileEntries[0]);
-  std::string dataFile, extra;
-  if (!(entry >> dataFile >> header.DataOffset) || dataFile != "." || header.DataOffset < 0 ||
-    (entry >> extra))
-  {
-    vtkErrorMacro(<< "'" << name << "': unsupported 'file' entry '" << fileEntries[0]
-                  << "': only data in the same file (\". OFFSET\") is supported.");
-    return false;
-  }
-  return true;
+  return Trim(line) == MIFMagic ? 1 : 0;
 }
 
 //------------------------------------------------------------------------------
 int vtkSightlineMIFReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  Header header;
   this->TransformMatrix->Identity();
   this->SlicesReversed = false;
   this->DataTypeName.clear();
-  if (!this->ReadHeader(header))
+  Input input;
+  std::string error;
+  if (!OpenInput(this->FileName, this->ReadFromInputString, this->InputString, input, error))
   {
+    vtkErrorMacro(<< error);
     return 0;
   }
+  const Header& header = input.Parsed;
   this->DataTypeName = header.DataType;
 
   // Left-handed grid: reverse z so that the matrix stays a rotation (vtkNIFTIImageReader's
@@ -588,47 +589,57 @@ int vtkSightlineMIFReader::RequestData(
 
   // The header is read again: the file may have changed since RequestInformation, and the
   // two must agree for the data to be read correctly.
-  Header header;
-  if (!this->ReadHeader(header))
+  const std::string name = InputName(this->FileName, this->ReadFromInputString);
+  Input input;
+  std::string error;
+  if (!OpenInput(this->FileName, this->ReadFromInputString, this->InputString, input, error))
   {
+    vtkErrorMacro(<< error);
     return 0;
   }
+  const Header& header = input.Parsed;
+  Source& source = *input.Stream;
   const vtkIdType nx = header.Dim[0], ny = header.Dim[1], nz = header.Dim[2],
                   nc = header.Dim[3];
-  const vtkIdType count = nx * ny * nz * nc;
-  const std::size_t bytes = static_cast<std::size_t>(count) * header.Bytes;
+  const std::size_t size = static_cast<std::size_t>(header.Bytes);
+  const std::size_t offset = static_cast<std::size_t>(header.DataOffset);
 
-  GzHandle file = OpenGz(this->FileName);
-  if (!file || gzseek(file.get(), static_cast<z_off_t>(header.DataOffset), SEEK_SET) < 0)
+  // Uncompressed data are used where they lie (ParseHeader checked that they are all there);
+  // compressed ones are inflated step by step, so that the buffer never runs far ahead of the
+  // data actually present.
+  const unsigned char* raw = nullptr;
+  std::vector<unsigned char> inflated;
+  if (!source.IsCompressed())
   {
-    vtkErrorMacro(<< "'" << this->FileName << "': cannot seek to the data at offset "
-                  << header.DataOffset << " (truncated file?).");
-    return 0;
+    raw = source.StoredBytes(offset);
   }
-  std::vector<unsigned char> raw(bytes);
-  std::size_t done = 0;
-  while (done < bytes)
+  else
   {
-    // gzread takes an unsigned int length: read large images in chunks.
-    const unsigned chunk =
-      static_cast<unsigned>(std::min<std::size_t>(bytes - done, 1u << 30));
-    const int got = gzread(file.get(), raw.data() + done, chunk);
-    if (got <= 0)
+    std::size_t done = 0;
+    if (source.SkipTo(offset))
     {
-      break;
+      while (done < size)
+      {
+        const std::size_t step = std::min(size - done, InflateStep);
+        inflated.resize(done + step);
+        const std::size_t got = source.Read(inflated.data() + done, step);
+        done += got;
+        if (got < step)
+        {
+          break;
+        }
+      }
     }
-    done += static_cast<std::size_t>(got);
-  }
-  if (done < bytes)
-  {
-    int zerror = Z_OK;
-    const char* message = gzerror(file.get(), &zerror);
-    vtkErrorMacro(<< "'" << this->FileName << "' is truncated: the header promises " << bytes
-                  << " bytes of " << header.DataType << " data at offset " << header.DataOffset
-                  << ", but only " << done << " could be read"
-                  << (zerror != Z_OK && message ? std::string(" (") + message + ")" : "")
-                  << ".");
-    return 0;
+    if (done < size)
+    {
+      vtkErrorMacro(<< name << " is truncated: the header promises " << size << " bytes of "
+                    << Quote(header.DataType) << " data at offset " << offset << ", but only "
+                    << done << " could be inflated"
+                    << (source.Error().empty() ? "" : " (gzip: " + source.Error() + ")")
+                    << ".");
+      return 0;
+    }
+    raw = inflated.data();
   }
 
   int extent[6] = { 0, static_cast<int>(nx - 1), 0, static_cast<int>(ny - 1), 0,
@@ -661,9 +672,8 @@ int vtkSightlineMIFReader::RequestData(
         for (vtkIdType c = 0; c < nc; ++c)
         {
           const vtkIdType element = baseI + position(3, c);
-          const double stored = Convert(raw.data() + static_cast<std::size_t>(element) *
-              header.Bytes,
-            header.Type, header.Bytes, header.Swap);
+          const double stored =
+            Convert(raw + static_cast<std::size_t>(element) * header.Type.Bytes, header.Type);
           tuple[c] =
             static_cast<float>(header.ScaleOffset + header.ScaleMultiplier * stored);
         }

@@ -26,7 +26,11 @@
  * Errors (vtkErrorMacro, an empty output, no crash): a missing or unreadable file, a first line
  * other than "mrtrix image", a missing or malformed dim/vox/layout/datatype/file entry, an
  * unsupported datatype (Bit, complex, 64-bit integers), a separate data file, more than 4 axes,
- * and data shorter than the header promises.
+ * a data offset inside the header, an image whose size overflows 64 bits, and data shorter
+ * than the header promises. Sizes are checked against the file's length before anything is
+ * allocated (for gzip, against the most a stream of that length can inflate to, and the data
+ * are then read in steps), so a small file cannot make the reader allocate much. Text quoted
+ * from the file in messages is escaped to printable UTF-8.
  *
  * @sa vtkNIFTIImageReader
  */
@@ -54,6 +58,18 @@ public:
    */
   vtkSetStringMacro(FileName);
   vtkGetStringMacro(FileName);
+  ///@}
+
+  ///@{
+  /**
+   * With ReadFromInputString on, the reader parses InputString (the bytes of a whole .mif or
+   * .mif.gz file) instead of FileName, e.g. for data that never touches the disk.
+   */
+  void SetInputString(const std::string& bytes);
+  const std::string& GetInputString() const { return this->InputString; }
+  vtkSetMacro(ReadFromInputString, bool);
+  vtkGetMacro(ReadFromInputString, bool);
+  vtkBooleanMacro(ReadFromInputString, bool);
   ///@}
 
   /**
@@ -88,6 +104,8 @@ protected:
     vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
+  std::string InputString;
+  bool ReadFromInputString = false;
   vtkNew<vtkMatrix4x4> TransformMatrix;
   bool SlicesReversed = false;
   std::string DataTypeName;
@@ -95,11 +113,6 @@ protected:
 private:
   vtkSightlineMIFReader(const vtkSightlineMIFReader&) = delete;
   void operator=(const vtkSightlineMIFReader&) = delete;
-
-#ifndef __VTK_WRAP__
-  struct Header;
-  bool ReadHeader(Header& header);
-#endif
 };
 
 #endif

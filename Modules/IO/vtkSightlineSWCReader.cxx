@@ -12,10 +12,11 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include "SightlineReaderInput.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <unordered_map>
@@ -35,14 +36,18 @@ struct Sample
   std::size_t line = 0;
 };
 
-/// Parses a whole token as a number; false for anything else ("1.5abc", "", "nan" is a number).
+/// Parses a whole token as a number; false for anything else ("1.5abc", "", "nan" is a
+/// number) and for numbers beyond double range ("1e999"). Numbers below the normal range
+/// ("1e-310") underflow gracefully to a subnormal or zero and are accepted.
 bool ParseDouble(const std::string& token, double& value)
 {
   char* end = nullptr;
   errno = 0;
   value = std::strtod(token.c_str(), &end);
-  return end != token.c_str() && *end == '\0' && errno != ERANGE;
+  return end != token.c_str() && *end == '\0' && !(errno == ERANGE && std::isinf(value));
 }
+
+const char* const FieldNames[7] = { "id", "type", "x", "y", "z", "radius", "parent" };
 
 bool ParseInteger(const std::string& token, long long& value)
 {
@@ -67,23 +72,29 @@ vtkSightlineSWCReader::~vtkSightlineSWCReader()
   this->SetFileName(nullptr);
 }
 
+void vtkSightlineSWCReader::SetInputString(const std::string& text)
+{
+  if (text != this->InputString)
+  {
+    this->InputString = text;
+    this->Modified();
+  }
+}
+
 int vtkSightlineSWCReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   this->NumberOfRoots = this->NumberOfBranchPoints = this->NumberOfZeroRadii = 0;
-  if (!this->FileName || !*this->FileName)
+  std::string text, error;
+  if (!sightline_io::LoadInput(
+        this->FileName, this->ReadFromInputString, this->InputString, text, error))
   {
-    vtkErrorMacro(<< "No FileName was set.");
+    vtkErrorMacro(<< error);
     return 0;
   }
-  const std::string name = this->FileName;
-  std::ifstream file(name);
-  if (!file)
-  {
-    vtkErrorMacro(<< "Cannot open the SWC file '" << name << "' (missing or unreadable).");
-    return 0;
-  }
+  const std::string name = sightline_io::InputName(this->FileName, this->ReadFromInputString);
+  std::istringstream file(text);
 
   // Samples in file order.
   std::vector<Sample> samples;
@@ -110,43 +121,46 @@ int vtkSightlineSWCReader::RequestData(
     }
     if (tokens.size() < 7)
     {
-      vtkErrorMacro(<< "'" << name << "' line " << lineNumber << ": " << tokens.size()
+      vtkErrorMacro(<< name << "' line " << lineNumber << ": " << tokens.size()
                     << " fields; an SWC sample needs 7 (id type x y z radius parent).");
       return 0;
     }
     Sample s;
     s.line = lineNumber;
     long long type = 0;
-    bool ok = ParseInteger(tokens[0], s.id) && ParseInteger(tokens[1], type) &&
-      ParseInteger(tokens[6], s.parent);
-    for (int axis = 0; axis < 3 && ok; ++axis)
+    double* const numbers[4] = { &s.position[0], &s.position[1], &s.position[2], &s.radius };
+    for (int field = 0; field < 7; ++field)
     {
-      ok = ParseDouble(tokens[2 + axis], s.position[axis]);
-    }
-    ok = ok && ParseDouble(tokens[5], s.radius);
-    if (!ok)
-    {
-      vtkErrorMacro(<< "'" << name << "' line " << lineNumber << ": \"" << line
-                    << "\" is not id type x y z radius parent (integers and numbers).");
+      const bool integer = field == 0 || field == 1 || field == 6;
+      long long* const target = field == 0 ? &s.id : (field == 1 ? &type : &s.parent);
+      if (integer ? ParseInteger(tokens[field], *target)
+                  : ParseDouble(tokens[field], *numbers[field - 2]))
+      {
+        continue;
+      }
+      vtkErrorMacro(<< name << " line " << lineNumber << ": the " << FieldNames[field]
+                    << " field \"" << sightline_io::Quote(tokens[field]) << "\" is not "
+                    << (integer ? "an integer" : "a number in double range")
+                    << " (a sample is id type x y z radius parent).");
       return 0;
     }
     s.type = static_cast<int>(type);
     if (!std::isfinite(s.position[0]) || !std::isfinite(s.position[1]) ||
       !std::isfinite(s.position[2]) || !std::isfinite(s.radius))
     {
-      vtkErrorMacro(<< "'" << name << "' line " << lineNumber << ": sample " << s.id
+      vtkErrorMacro(<< name << "' line " << lineNumber << ": sample " << s.id
                     << " has a non-finite position or radius.");
       return 0;
     }
     if (s.radius < 0.0)
     {
-      vtkErrorMacro(<< "'" << name << "' line " << lineNumber << ": sample " << s.id
+      vtkErrorMacro(<< name << "' line " << lineNumber << ": sample " << s.id
                     << " has the negative radius " << s.radius << ".");
       return 0;
     }
     if (!indexOfId.emplace(s.id, samples.size()).second)
     {
-      vtkErrorMacro(<< "'" << name << "' line " << lineNumber << ": the id " << s.id
+      vtkErrorMacro(<< name << "' line " << lineNumber << ": the id " << s.id
                     << " was already used on line " << samples[indexOfId[s.id]].line << ".");
       return 0;
     }
@@ -154,7 +168,7 @@ int vtkSightlineSWCReader::RequestData(
   }
   if (samples.empty())
   {
-    vtkErrorMacro(<< "'" << name << "' has no samples.");
+    vtkErrorMacro(<< name << "' has no samples.");
     return 0;
   }
 
@@ -173,7 +187,7 @@ int vtkSightlineSWCReader::RequestData(
     const auto parent = indexOfId.find(s.parent);
     if (parent == indexOfId.end())
     {
-      vtkErrorMacro(<< "'" << name << "' line " << s.line << ": the parent " << s.parent
+      vtkErrorMacro(<< name << "' line " << s.line << ": the parent " << s.parent
                     << " of sample " << s.id << " is not in the file.");
       return 0;
     }
@@ -234,7 +248,7 @@ int vtkSightlineSWCReader::RequestData(
       seen[i] = 1;
       i = parentIndex[i];
     }
-    vtkErrorMacro(<< "'" << name << "': the parents of sample " << samples[i].id << " (line "
+    vtkErrorMacro(<< name << "': the parents of sample " << samples[i].id << " (line "
                   << samples[i].line << ") form a cycle; " << (n - reachedCount)
                   << " samples do not descend from a root.");
     return 0;
@@ -306,7 +320,7 @@ int vtkSightlineSWCReader::RequestData(
   output->GetPointData()->AddArray(parents);
   if (this->NumberOfZeroRadii > 0)
   {
-    vtkWarningMacro(<< "'" << name << "': " << this->NumberOfZeroRadii << " of " << n
+    vtkWarningMacro(<< name << "': " << this->NumberOfZeroRadii << " of " << n
                     << " samples have radius 0.");
   }
   return 1;
@@ -316,6 +330,7 @@ void vtkSightlineSWCReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "ReadFromInputString: " << this->ReadFromInputString << "\n";
   os << indent << "NumberOfRoots: " << this->NumberOfRoots << "\n";
   os << indent << "NumberOfBranchPoints: " << this->NumberOfBranchPoints << "\n";
   os << indent << "NumberOfZeroRadii: " << this->NumberOfZeroRadii << "\n";

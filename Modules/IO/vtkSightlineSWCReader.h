@@ -19,15 +19,19 @@
  * to it) is kept as given: joined by spheres and cones it is a cylinder of the soma radius
  * capped by spheres. Samples with radius 0 are kept and counted in a warning.
  *
- * Errors name the line: fewer than seven fields, a field that is no number, non-finite
- * coordinates or radius, a negative radius, a duplicate id, a parent id that is not in the
- * file, or a cycle of parents (reported with one id on it). Nothing is output then.
+ * Errors name the line: fewer than seven fields, a field that is no number (named, with its
+ * text escaped to printable UTF-8), a number beyond double range, non-finite coordinates or
+ * radius, a negative radius, a duplicate id, a parent id that is not in the file, or a cycle of
+ * parents (reported with one id on it). Nothing is output then. Numbers too small for a
+ * normal double (e.g. 1e-310) are read as they are.
  */
 #ifndef vtkSightlineSWCReader_h
 #define vtkSightlineSWCReader_h
 
 #include "SightlineIOModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
 
 class SIGHTLINEIO_EXPORT vtkSightlineSWCReader : public vtkPolyDataAlgorithm
 {
@@ -38,6 +42,18 @@ public:
 
   vtkSetStringMacro(FileName);
   vtkGetStringMacro(FileName);
+
+  ///@{
+  /**
+   * With ReadFromInputString on, the reader parses InputString (the text of a whole SWC
+   * file) instead of FileName.
+   */
+  void SetInputString(const std::string& text);
+  const std::string& GetInputString() const { return this->InputString; }
+  vtkSetMacro(ReadFromInputString, bool);
+  vtkGetMacro(ReadFromInputString, bool);
+  vtkBooleanMacro(ReadFromInputString, bool);
+  ///@}
 
   /**
    * Counts of the last read: roots, branch points (samples with two or more children) and
@@ -55,6 +71,8 @@ protected:
     vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
+  std::string InputString;
+  bool ReadFromInputString = false;
   vtkIdType NumberOfRoots = 0;
   vtkIdType NumberOfBranchPoints = 0;
   vtkIdType NumberOfZeroRadii = 0;

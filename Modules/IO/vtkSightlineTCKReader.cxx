@@ -8,12 +8,13 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
-#include <algorithm>
+#include "SightlineMRtrixHeader.h"
+#include "SightlineReaderInput.h"
+
 #include <cmath>
-#include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <map>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -21,31 +22,9 @@ vtkStandardNewMacro(vtkSightlineTCKReader);
 
 namespace
 {
+using namespace sightline_io;
+
 constexpr const char* kMagic = "mrtrix tracks";
-
-std::string Trim(const std::string& text)
-{
-  const std::size_t begin = text.find_first_not_of(" \t\r");
-  const std::size_t end = text.find_last_not_of(" \t\r");
-  return begin == std::string::npos ? std::string() : text.substr(begin, end - begin + 1);
-}
-
-/// Reverses the bytes of each `size`-byte value when the file's byte order is not the host's.
-void SwapBytes(char* data, std::size_t count, std::size_t size)
-{
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    std::reverse(data + i * size, data + (i + 1) * size);
-  }
-}
-
-bool HostIsLittleEndian()
-{
-  const std::uint16_t one = 1;
-  unsigned char first;
-  std::memcpy(&first, &one, 1);
-  return first == 1;
-}
 } // namespace
 
 vtkSightlineTCKReader::vtkSightlineTCKReader()
@@ -56,6 +35,15 @@ vtkSightlineTCKReader::vtkSightlineTCKReader()
 vtkSightlineTCKReader::~vtkSightlineTCKReader()
 {
   this->SetFileName(nullptr);
+}
+
+void vtkSightlineTCKReader::SetInputString(const std::string& bytes)
+{
+  if (bytes != this->InputString)
+  {
+    this->InputString = bytes;
+    this->Modified();
+  }
 }
 
 int vtkSightlineTCKReader::CanReadFile(const char* fileName)
@@ -69,138 +57,131 @@ int vtkSightlineTCKReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  if (!this->FileName || !*this->FileName)
+  std::string bytes, error;
+  if (!LoadInput(this->FileName, this->ReadFromInputString, this->InputString, bytes, error))
   {
-    vtkErrorMacro(<< "No FileName was set.");
+    vtkErrorMacro(<< error);
     return 0;
   }
-  const std::string name = this->FileName;
-  std::ifstream file(name, std::ios::binary);
-  if (!file)
+  const std::string name = InputName(this->FileName, this->ReadFromInputString);
+  std::size_t at = 0;
+  MRtrixHeader header;
+  if (!ReadMRtrixHeader(
+        [&] { return at < bytes.size() ? static_cast<unsigned char>(bytes[at++]) : -1; },
+        kMagic, "MRtrix track file", header, error))
   {
-    vtkErrorMacro(<< "Cannot open the track file '" << name << "' (missing or unreadable).");
+    vtkErrorMacro(<< name << ": " << error);
     return 0;
   }
-  std::string line;
-  if (!std::getline(file, line) || Trim(line) != kMagic)
+  const std::string datatype = header.Value("datatype");
+  MRtrixDataType type;
+  if (!ParseDataType(datatype, type) ||
+    (type.Type != MRtrixType::Float32 && type.Type != MRtrixType::Float64))
   {
-    vtkErrorMacro(<< "'" << name << "' is not an MRtrix track file: its first line is not \""
-                  << kMagic << "\".");
-    return 0;
-  }
-  std::map<std::string, std::string> header;
-  bool ended = false;
-  while (std::getline(file, line))
-  {
-    line = Trim(line);
-    if (line == "END")
-    {
-      ended = true;
-      break;
-    }
-    const std::size_t colon = line.find(':');
-    if (colon != std::string::npos)
-    {
-      header[Trim(line.substr(0, colon))] = Trim(line.substr(colon + 1));
-    }
-  }
-  if (!ended)
-  {
-    vtkErrorMacro(<< "'" << name << "': the header has no END line (truncated file?).");
-    return 0;
-  }
-  const std::string datatype = header["datatype"];
-  std::size_t valueSize = 0;
-  bool little = true;
-  if (datatype == "Float32LE" || datatype == "Float32BE")
-  {
-    valueSize = 4;
-  }
-  else if (datatype == "Float64LE" || datatype == "Float64BE")
-  {
-    valueSize = 8;
-  }
-  if (valueSize == 0)
-  {
-    vtkErrorMacro(<< "'" << name << "': datatype '" << datatype
+    vtkErrorMacro(<< name << ": datatype '" << Quote(datatype)
                   << "' is not one of Float32LE, Float32BE, Float64LE, Float64BE.");
     return 0;
   }
-  little = datatype.compare(datatype.size() - 2, 2, "LE") == 0;
-  const std::string location = header["file"];
+  const std::string location = header.Value("file");
   long long offset = -1;
-  if (location.size() > 2 && location[0] == '.' && location[1] == ' ')
+  const long long size = static_cast<long long>(bytes.size());
+  if (!ParseDataFileEntry(location, offset) || offset < static_cast<long long>(header.Size) ||
+    offset > size)
   {
-    offset = std::atoll(location.c_str() + 2);
-  }
-  file.seekg(0, std::ios::end);
-  const long long size = static_cast<long long>(file.tellg());
-  if (offset <= 0 || offset > size)
-  {
-    vtkErrorMacro(<< "'" << name << "': the 'file' entry '" << location
-                  << "' does not give a data offset inside the file (" << size << " bytes).");
+    vtkErrorMacro(<< name << ": the 'file' entry '" << Quote(location)
+                  << "' does not give a data offset inside the file (" << size
+                  << " bytes) and after the header (" << header.Size << " bytes).");
     return 0;
   }
 
-  // The data: triplets until the Inf triplet.
-  file.seekg(offset);
-  std::vector<char> raw(static_cast<std::size_t>(size - offset));
-  file.read(raw.data(), static_cast<std::streamsize>(raw.size()));
-  const std::size_t triplets = raw.size() / (3 * valueSize);
-  if (little != HostIsLittleEndian())
-  {
-    SwapBytes(raw.data(), 3 * triplets, valueSize);
-  }
-  auto value = [&](std::size_t index)
-  {
+  // The data: triplets until the Inf triplet, converted in place to the host's byte order.
+  const std::size_t valueSize = static_cast<std::size_t>(type.Bytes);
+  const std::size_t triplets = (bytes.size() - offset) / (3 * valueSize);
+  char* raw = &bytes[offset];
+  ToHostByteOrder(raw, 3 * triplets, type);
+  auto value = [&](std::size_t index) {
     if (valueSize == 4)
     {
       float v;
-      std::memcpy(&v, raw.data() + 4 * index, 4);
+      std::memcpy(&v, raw + 4 * index, 4);
       return static_cast<double>(v);
     }
     double v;
-    std::memcpy(&v, raw.data() + 8 * index, 8);
+    std::memcpy(&v, raw + 8 * index, 8);
     return v;
   };
+  // Points are stored in single precision: a finite Float64 value beyond its range would
+  // become an infinity.
+  constexpr double largest = std::numeric_limits<float>::max();
   vtkNew<vtkPoints> points;
   vtkNew<vtkCellArray> lines;
-  std::vector<vtkIdType> current;
-  bool finished = false;
+  std::vector<double> current; // the streamline being read, added once it is complete
+  bool finished = false, outOfRange = false;
+  vtkIdType skipped = 0, firstSkipped = -1;
+  double badValue = 0.0;
+  auto endStreamline = [&] {
+    if (outOfRange)
+    {
+      firstSkipped = skipped == 0 ? lines->GetNumberOfCells() : firstSkipped;
+      ++skipped;
+    }
+    else if (!current.empty())
+    {
+      const vtkIdType first = points->GetNumberOfPoints();
+      const vtkIdType count = static_cast<vtkIdType>(current.size() / 3);
+      lines->InsertNextCell(count);
+      for (vtkIdType k = 0; k < count; ++k)
+      {
+        points->InsertNextPoint(&current[3 * k]);
+        lines->InsertCellPoint(first + k);
+      }
+    }
+    current.clear();
+    outOfRange = false;
+  };
   for (std::size_t t = 0; t < triplets; ++t)
   {
     const double p[3] = { value(3 * t), value(3 * t + 1), value(3 * t + 2) };
     if (std::isinf(p[0]) || std::isinf(p[1]) || std::isinf(p[2]))
     {
       finished = true;
+      endStreamline();
       break;
     }
     if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2]))
     {
-      if (!current.empty())
-      {
-        lines->InsertNextCell(static_cast<vtkIdType>(current.size()), current.data());
-      }
-      current.clear();
+      endStreamline();
       continue;
     }
-    current.push_back(points->InsertNextPoint(p));
+    for (const double v : p)
+    {
+      if (std::fabs(v) > largest && !outOfRange)
+      {
+        outOfRange = true;
+        badValue = skipped == 0 ? v : badValue;
+      }
+    }
+    current.insert(current.end(), p, p + 3);
   }
   if (!finished)
   {
-    vtkWarningMacro(<< "'" << name << "' has no end marker (cut short?); "
-                    << lines->GetNumberOfCells() << " complete streamlines read"
+    vtkWarningMacro(<< name << " has no end marker (cut short?); " << lines->GetNumberOfCells()
+                    << " complete streamlines read"
                     << (current.empty() ? "" : ", the last incomplete one dropped") << ".");
   }
-  if (!current.empty() && finished)
+  if (skipped > 0)
   {
-    lines->InsertNextCell(static_cast<vtkIdType>(current.size()), current.data());
+    vtkWarningMacro(<< name << ": " << skipped << " streamlines (the first is number "
+                    << firstSkipped << ", with the value " << badValue
+                    << ") have coordinates beyond single precision and were left out.");
   }
-  const std::string count = header["count"];
-  if (!count.empty() && std::atoll(count.c_str()) != lines->GetNumberOfCells())
+  const std::string count = header.Value("count");
+  long long expected = 0;
+  if (!count.empty() &&
+    (!ParseInteger(count, expected) || expected != lines->GetNumberOfCells() + skipped))
   {
-    vtkWarningMacro(<< "'" << name << "': the header's count is " << count << " but "
-                    << lines->GetNumberOfCells() << " streamlines were read.");
+    vtkWarningMacro(<< name << ": the header's count is " << Quote(count) << " but "
+                    << lines->GetNumberOfCells() + skipped << " streamlines were read.");
   }
   output->SetPoints(points);
   output->SetLines(lines);
@@ -211,4 +192,5 @@ void vtkSightlineTCKReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "ReadFromInputString: " << this->ReadFromInputString << "\n";
 }

@@ -8,16 +8,21 @@
  * triplet and the file by an Inf triplet. Points are scanner coordinates in mm (RAS), as
  * MRtrix3 writes them; one polyline per streamline.
  *
- * A file cut short (no Inf triplet) keeps its complete streamlines, with a warning; a `count`
- * that disagrees with the streamlines read is reported as a warning too. A missing file, a
- * wrong first line, a header without END, `file` or a known `datatype`, or a data offset
- * beyond the file are errors.
+ * A file cut short (no Inf triplet) keeps its complete streamlines, with a warning (the points
+ * of an incomplete last one are dropped with it); a `count` that disagrees with the
+ * streamlines read is reported as a warning too, and so are streamlines with a coordinate
+ * beyond single precision (a Float64 file), which are left out. A missing file, a wrong first
+ * line, a header without END, `file` or a known `datatype`, or a data offset inside the header
+ * or beyond the file are errors. Text quoted from the file in messages is escaped to printable
+ * UTF-8.
  */
 #ifndef vtkSightlineTCKReader_h
 #define vtkSightlineTCKReader_h
 
 #include "SightlineIOModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
 
 class SIGHTLINEIO_EXPORT vtkSightlineTCKReader : public vtkPolyDataAlgorithm
 {
@@ -28,6 +33,18 @@ public:
 
   vtkSetStringMacro(FileName);
   vtkGetStringMacro(FileName);
+
+  ///@{
+  /**
+   * With ReadFromInputString on, the reader parses InputString (the bytes of a whole .tck
+   * file) instead of FileName.
+   */
+  void SetInputString(const std::string& bytes);
+  const std::string& GetInputString() const { return this->InputString; }
+  vtkSetMacro(ReadFromInputString, bool);
+  vtkGetMacro(ReadFromInputString, bool);
+  vtkBooleanMacro(ReadFromInputString, bool);
+  ///@}
 
   /**
    * Whether the file starts like a .tck file.
@@ -42,6 +59,8 @@ protected:
     vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
+  std::string InputString;
+  bool ReadFromInputString = false;
 
 private:
   vtkSightlineTCKReader(const vtkSightlineTCKReader&) = delete;

@@ -5,12 +5,15 @@
 #include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+
+#include "SightlineReaderInput.h"
 
 #include <algorithm>
 #include <cctype>
@@ -19,6 +22,7 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 vtkStandardNewMacro(vtkSightlineTrackVisReader);
@@ -88,6 +92,15 @@ vtkSightlineTrackVisReader::~vtkSightlineTrackVisReader()
   this->SetFileName(nullptr);
 }
 
+void vtkSightlineTrackVisReader::SetInputString(const std::string& bytes)
+{
+  if (bytes != this->InputString)
+  {
+    this->InputString = bytes;
+    this->Modified();
+  }
+}
+
 int vtkSightlineTrackVisReader::CanReadFile(const char* fileName)
 {
   std::ifstream file(fileName ? fileName : "", std::ios::binary);
@@ -100,25 +113,22 @@ int vtkSightlineTrackVisReader::RequestData(
 {
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   this->VoxmmToRAS->Identity();
-  if (!this->FileName || !*this->FileName)
+  std::string input, error;
+  if (!sightline_io::LoadInput(
+        this->FileName, this->ReadFromInputString, this->InputString, input, error))
   {
-    vtkErrorMacro(<< "No FileName was set.");
+    vtkErrorMacro(<< error);
     return 0;
   }
-  const std::string name = this->FileName;
-  std::ifstream file(name, std::ios::binary);
-  if (!file)
+  const std::string name = sightline_io::InputName(this->FileName, this->ReadFromInputString);
+  if (input.size() < static_cast<std::size_t>(kHeaderSize) ||
+    std::memcmp(input.data(), "TRACK", 5) != 0)
   {
-    vtkErrorMacro(<< "Cannot open the TrackVis file '" << name << "' (missing or unreadable).");
+    vtkErrorMacro(<< name << " is not a TrackVis file: it does not start with a " << kHeaderSize
+                  << "-byte header whose id is TRACK.");
     return 0;
   }
-  char header[kHeaderSize];
-  if (!file.read(header, kHeaderSize) || std::memcmp(header, "TRACK", 5) != 0)
-  {
-    vtkErrorMacro(<< "'" << name << "' is not a TrackVis file: it does not start with a "
-                  << kHeaderSize << "-byte header whose id is TRACK.");
-    return 0;
-  }
+  const char* header = input.data();
   // The header size (1000) tells the byte order: read as the host's, or swapped.
   const Decoder native(false), swapped(true);
   Decoder decode = native;
@@ -126,7 +136,7 @@ int vtkSightlineTrackVisReader::RequestData(
   {
     if (swapped.Get<std::int32_t>(header + 996) != kHeaderSize)
     {
-      vtkErrorMacro(<< "'" << name << "': the header size field is neither 1000 little- nor "
+      vtkErrorMacro(<< name << ": the header size field is neither 1000 little- nor "
                     << "big-endian; not a TrackVis file or a damaged one.");
       return 0;
     }
@@ -144,7 +154,7 @@ int vtkSightlineTrackVisReader::RequestData(
   const int properties = std::max(0, static_cast<int>(decode.Get<std::int16_t>(header + 238)));
   if (scalars > 10 || properties > 10)
   {
-    vtkErrorMacro(<< "'" << name << "': " << scalars << " scalars and " << properties
+    vtkErrorMacro(<< name << ": " << scalars << " scalars and " << properties
                   << " properties per point/streamline; TrackVis allows 10 of each.");
     return 0;
   }
@@ -185,16 +195,39 @@ int vtkSightlineTrackVisReader::RequestData(
   {
     for (int a = 0; a < 3; ++a)
     {
-      if (!(voxelSize[a] > 0.0))
+      if (!(voxelSize[a] > 0.0) || !std::isfinite(voxelSize[a]))
       {
-        vtkErrorMacro(<< "'" << name << "': voxel size " << voxelSize[a] << " along axis " << a
+        vtkErrorMacro(<< name << ": voxel size " << voxelSize[a] << " along axis " << a
                       << " cannot map voxmm to RAS mm (CoordinatesVoxmm keeps the raw values).");
         return 0;
       }
     }
+    double rotation[3][3];
+    bool finite = true;
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        finite = finite && std::isfinite(voxToRAS[r][c]);
+        if (r < 3 && c < 3)
+        {
+          rotation[r][c] = voxToRAS[r][c];
+        }
+      }
+    }
     int matrixAxis[3], matrixSign[3];
     AxisCodes(voxToRAS, matrixAxis, matrixSign);
+    if (!finite || vtkMath::Determinant3x3(rotation) == 0.0 ||
+      matrixAxis[0] == matrixAxis[1] || matrixAxis[1] == matrixAxis[2] ||
+      matrixAxis[0] == matrixAxis[2])
+    {
+      vtkErrorMacro(<< name << ": the voxel-to-RAS matrix is not finite, or its voxel axes do "
+                    << "not run along three different world axes (CoordinatesVoxmm keeps the "
+                    << "raw values).");
+      return 0;
+    }
     int toAxis[3], flip[3];
+    bool named[3] = { false, false, false };
     for (int i = 0; i < 3; ++i)
     {
       const char letter = order[i];
@@ -204,11 +237,20 @@ int vtkSightlineTrackVisReader::RequestData(
       const char* q = std::strchr(negative, letter);
       if (!letter || (!p && !q))
       {
-        vtkErrorMacro(<< "'" << name << "': voxel order '" << order << "' is not made of R/L, A/P, S/I.");
+        vtkErrorMacro(<< name << ": voxel order '" << sightline_io::Quote(order)
+                      << "' is not made of R/L, A/P, S/I.");
         return 0;
       }
       const int worldAxis = p ? static_cast<int>(p - positive) : static_cast<int>(q - negative);
       const int sign = p ? 1 : -1;
+      if (named[worldAxis])
+      {
+        vtkErrorMacro(<< name << ": voxel order '" << sightline_io::Quote(order)
+                      << "' names the axis " << positive[worldAxis] << "/" << negative[worldAxis]
+                      << " twice; it must name R/L, A/P and S/I once each.");
+        return 0;
+      }
+      named[worldAxis] = true;
       toAxis[i] = -1;
       for (int j = 0; j < 3; ++j)
       {
@@ -220,7 +262,7 @@ int vtkSightlineTrackVisReader::RequestData(
       }
       if (toAxis[i] < 0)
       {
-        vtkErrorMacro(<< "'" << name << "': voxel order '" << order
+        vtkErrorMacro(<< name << ": voxel order '" << sightline_io::Quote(order)
                       << "' does not match the axes of the voxel-to-RAS matrix.");
         return 0;
       }
@@ -248,35 +290,31 @@ int vtkSightlineTrackVisReader::RequestData(
   }
 
   // The streamlines.
-  file.seekg(0, std::ios::end);
-  const long long size = static_cast<long long>(file.tellg());
-  std::vector<char> body(static_cast<std::size_t>(std::max(0LL, size - kHeaderSize)));
-  file.seekg(kHeaderSize);
-  file.read(body.data(), static_cast<std::streamsize>(body.size()));
+  const std::string_view body(input.data() + kHeaderSize, input.size() - kHeaderSize);
   vtkNew<vtkPoints> points;
   vtkNew<vtkCellArray> lines;
   std::vector<vtkSmartPointer<vtkFloatArray>> scalarArrays(scalars), propertyArrays(properties);
   for (int s = 0; s < scalars; ++s)
   {
     scalarArrays[s] = vtkSmartPointer<vtkFloatArray>::New();
-    scalarArrays[s]->SetName(FieldName(header + 38 + 20 * s, "scalar_" + std::to_string(s)).c_str());
+    scalarArrays[s]->SetName(sightline_io::Quote(FieldName(header + 38 + 20 * s, "scalar_" + std::to_string(s))).c_str());
   }
   for (int p = 0; p < properties; ++p)
   {
     propertyArrays[p] = vtkSmartPointer<vtkFloatArray>::New();
-    propertyArrays[p]->SetName(FieldName(header + 240 + 20 * p, "property_" + std::to_string(p)).c_str());
+    propertyArrays[p]->SetName(sightline_io::Quote(FieldName(header + 240 + 20 * p, "property_" + std::to_string(p))).c_str());
   }
   const std::size_t pointBytes = 4u * (3u + scalars);
   std::size_t at = 0;
-  std::vector<vtkIdType> ids;
+  std::vector<double> mapped;
   bool cut = false;
+  vtkIdType streamline = 0, skipped = 0, firstSkipped = -1;
   while (at + 4 <= body.size())
   {
     const std::int32_t count = decode.Get<std::int32_t>(body.data() + at);
     if (count < 0)
     {
-      vtkErrorMacro(<< "'" << name << "': streamline " << lines->GetNumberOfCells()
-                    << " has the negative point count " << count << ".");
+      vtkErrorMacro(<< name << ": streamline " << streamline << " has the negative point count " << count << ".");
       return 0;
     }
     const std::size_t bytes = 4 + count * pointBytes + 4u * properties;
@@ -285,8 +323,11 @@ int vtkSightlineTrackVisReader::RequestData(
       cut = true;
       break;
     }
-    ids.resize(count);
+    // The points first, mapped: a streamline with a NaN or infinite coordinate is left out
+    // whole (its scalars and properties with it).
+    mapped.resize(3 * static_cast<std::size_t>(count));
     const char* data = body.data() + at + 4;
+    bool finite = true;
     for (std::int32_t k = 0; k < count; ++k)
     {
       const char* point = data + k * pointBytes;
@@ -296,30 +337,49 @@ int vtkSightlineTrackVisReader::RequestData(
       {
         this->VoxmmToRAS->MultiplyPoint(p, p);
       }
-      ids[k] = points->InsertNextPoint(p);
+      finite = finite && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+      std::copy(p, p + 3, mapped.begin() + 3 * k);
+    }
+    at += bytes;
+    ++streamline;
+    if (!finite)
+    {
+      firstSkipped = skipped++ == 0 ? streamline - 1 : firstSkipped;
+      continue;
+    }
+    const vtkIdType first = points->GetNumberOfPoints();
+    lines->InsertNextCell(count);
+    for (std::int32_t k = 0; k < count; ++k)
+    {
+      points->InsertNextPoint(&mapped[3 * k]);
+      lines->InsertCellPoint(first + k);
       for (int s = 0; s < scalars; ++s)
       {
-        scalarArrays[s]->InsertNextValue(decode.Get<float>(point + 12 + 4 * s));
+        scalarArrays[s]->InsertNextValue(decode.Get<float>(data + k * pointBytes + 12 + 4 * s));
       }
     }
     for (int q = 0; q < properties; ++q)
     {
       propertyArrays[q]->InsertNextValue(decode.Get<float>(data + count * pointBytes + 4 * q));
     }
-    lines->InsertNextCell(count, ids.data());
-    at += bytes;
+  }
+  if (skipped > 0)
+  {
+    vtkWarningMacro(<< name << ": " << skipped << " streamlines have NaN or infinite "
+                    << "coordinates and were left out (the first is streamline " << firstSkipped
+                    << ").");
   }
   if (cut || at != body.size())
   {
-    vtkWarningMacro(<< "'" << name << "' ends inside streamline " << lines->GetNumberOfCells()
+    vtkWarningMacro(<< name << " ends inside streamline " << streamline
                     << " (cut short?); the " << lines->GetNumberOfCells()
                     << " complete streamlines are kept.");
   }
   const std::int32_t expected = decode.Get<std::int32_t>(header + 988);
-  if (expected > 0 && expected != lines->GetNumberOfCells())
+  if (expected > 0 && expected != streamline)
   {
-    vtkWarningMacro(<< "'" << name << "': the header's n_count is " << expected << " but "
-                    << lines->GetNumberOfCells() << " streamlines were read.");
+    vtkWarningMacro(<< name << ": the header's n_count is " << expected << " but "
+                    << streamline << " streamlines were read.");
   }
   output->SetPoints(points);
   output->SetLines(lines);
@@ -338,6 +398,7 @@ void vtkSightlineTrackVisReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
+  os << indent << "ReadFromInputString: " << this->ReadFromInputString << "\n";
   os << indent << "CoordinatesVoxmm: " << this->CoordinatesVoxmm << "\n";
   os << indent << "VoxelOrder: " << this->VoxelOrder << "\n";
   os << indent << "VoxmmToRAS:\n";

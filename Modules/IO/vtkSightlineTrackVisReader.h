@@ -16,7 +16,10 @@
  * Output: one polyline per streamline; per-point scalars and per-cell properties as arrays
  * named from the header ("scalar_<i>" / "property_<i>" when unnamed). Errors: a missing file,
  * no "TRACK" id, a header size that is not 1000 in either byte order, a negative point count,
- * a file cut inside a streamline (the complete ones are kept, with a warning).
+ * and (when mapping to RAS) a voxel order that names an axis twice (e.g. "RAR") or a
+ * voxel-to-RAS matrix that is not finite and invertible. Warnings: a file cut inside a
+ * streamline (the complete ones are kept); streamlines with NaN or infinite coordinates
+ * (left out, the first one named). Text quoted from the file is escaped to printable UTF-8.
  */
 #ifndef vtkSightlineTrackVisReader_h
 #define vtkSightlineTrackVisReader_h
@@ -24,6 +27,8 @@
 #include "SightlineIOModule.h" // for export macro
 #include "vtkNew.h"            // for vtkNew
 #include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
 
 class vtkMatrix4x4;
 
@@ -36,6 +41,18 @@ public:
 
   vtkSetStringMacro(FileName);
   vtkGetStringMacro(FileName);
+
+  ///@{
+  /**
+   * With ReadFromInputString on, the reader parses InputString (the bytes of a whole .trk
+   * file) instead of FileName.
+   */
+  void SetInputString(const std::string& bytes);
+  const std::string& GetInputString() const { return this->InputString; }
+  vtkSetMacro(ReadFromInputString, bool);
+  vtkGetMacro(ReadFromInputString, bool);
+  vtkBooleanMacro(ReadFromInputString, bool);
+  ///@}
 
   /**
    * Keep TrackVis' voxmm coordinates instead of mapping them to RAS mm. Default off.
@@ -64,6 +81,8 @@ protected:
     vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
+  std::string InputString;
+  bool ReadFromInputString = false;
   bool CoordinatesVoxmm = false;
   vtkNew<vtkMatrix4x4> VoxmmToRAS;
   char VoxelOrder[4] = { 0, 0, 0, 0 };

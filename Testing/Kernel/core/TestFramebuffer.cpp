@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace
 {
@@ -108,3 +110,36 @@ TEST(Framebuffer, CompositeNearestKeepsTheSmallerDepth)
   EXPECT_THROW(composite.compositeNearest(Framebuffer(2, 3)), std::invalid_argument);
 }
 } // namespace
+
+// A huge image size used to end in an uncaught std::bad_alloc (abort) inside resize; it must be
+// refused with an exception naming the size and the budget, and leave the framebuffer as it was.
+TEST(Framebuffer, SizeBeyondTheMemoryBudgetIsRefusedByName)
+{
+  Framebuffer framebuffer(4, 2);
+  framebuffer.Color[3] = vec4(1.0f);
+  for (const auto& size : { std::pair<int, int>{ 46341, 46341 }, { 100000, 100000 },
+         { 2147483647, 2147483647 }, { 1, 2147483647 } })
+  {
+    try
+    {
+      framebuffer.resize(size.first, size.second);
+      ADD_FAILURE() << size.first << " x " << size.second << " was accepted";
+    }
+    catch (const std::length_error& error)
+    {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(std::to_string(size.first) + " x " + std::to_string(size.second)),
+        std::string::npos)
+        << message;
+      EXPECT_NE(message.find("budget of 8 GiB"), std::string::npos) << message;
+    }
+    EXPECT_EQ(framebuffer.width(), 4);
+    EXPECT_EQ(framebuffer.height(), 2);
+    ASSERT_EQ(framebuffer.pixelCount(), 8u);
+    EXPECT_EQ(framebuffer.Color[3], vec4(1.0f));
+  }
+  EXPECT_THROW(Framebuffer(-1, 5), std::invalid_argument);
+  // An ordinary large image is still accepted.
+  framebuffer.resize(4096, 2160);
+  EXPECT_EQ(framebuffer.pixelCount(), 4096u * 2160u);
+}

@@ -3,13 +3,33 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace sightline
 {
+namespace
+{
+// Colour (vec4), window depth and distance: what one pixel costs.
+constexpr std::size_t kBytesPerPixel = sizeof(vec4) + 2 * sizeof(float);
+// The memory budget of one framebuffer (see resize): 8 GiB, about 358 million pixels (an 18900
+// x 18900 image), far beyond any screen or poster yet small enough to be refused cleanly
+// instead of ending in std::bad_alloc or the out-of-memory killer.
+constexpr std::size_t kMaxBytes = std::size_t(8) << 30;
+} // namespace
+
 void Framebuffer::resize(int width, int height)
 {
   if (width < 0 || height < 0)
-    throw std::invalid_argument("sightline::Framebuffer: negative size");
+    throw std::invalid_argument("sightline::Framebuffer: negative size " + std::to_string(width) +
+      " x " + std::to_string(height));
+  // Checked before anything changes: a refused size leaves the framebuffer as it was.
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (pixels > kMaxBytes / kBytesPerPixel)
+    throw std::length_error("sightline::Framebuffer: a " + std::to_string(width) + " x " +
+      std::to_string(height) + " image needs " + std::to_string(pixels) + " pixels of " +
+      std::to_string(kBytesPerPixel) + " bytes, beyond the budget of " +
+      std::to_string(kMaxBytes >> 30) + " GiB (" + std::to_string(kMaxBytes / kBytesPerPixel) +
+      " pixels)");
   Width = width;
   Height = height;
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);

@@ -15,6 +15,9 @@ public:
   Framebuffer(int width, int height) { resize(width, height); }
 
   /// Resizes and clears to "nothing hit": colour (0,0,0,0), window depth 1, distance infinity.
+  /// Throws std::invalid_argument for a negative size and std::length_error, naming the size
+  /// and the budget, for an image beyond the memory budget of 8 GiB (24 bytes a pixel: about
+  /// 358 million pixels); the framebuffer is unchanged then.
   void resize(int width, int height);
   void clear();
 

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Writes the seed corpora of the fuzz targets into OUT/{MIF,TCK,TrackVis,SWC} from real files:
+# nibabel's and DIPY's .trk/.tck files, Sightline's SWC test files, and small .mif/.mif.gz cut
+# by MRtrix3's mrconvert from SH_DATA/small_64D_sh_tournier07.mif (the SHData fixture) in every
+# datatype the reader supports, both byte orders and three stride layouts.
+# Usage: fuzz-corpus.sh OUT SH_DATA
+set -euo pipefail
+out="$1"
+sh_data="$2"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+nibabel=/usr/lib/python3/dist-packages/nibabel/tests/data
+dipy=/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip
+rm -rf "$out"
+mkdir -p "$out"/{MIF,TCK,TrackVis,SWC}
+cp "$nibabel"/*.trk "$out/TrackVis/"
+cp "$nibabel"/*.tck "$out/TCK/"
+cp "$root"/Testing/Data/SWC/*.swc "$out/SWC/"
+/usr/bin/python3 - "$dipy" "$out/TrackVis" <<'PY'
+import sys, zipfile
+with zipfile.ZipFile(sys.argv[1]) as bundles:
+    for name in bundles.namelist():
+        if name.startswith("sub_1/") and name.endswith(".trk"):
+            open(f"{sys.argv[2]}/dipy_{name[6:]}", "wb").write(bundles.read(name))
+PY
+source="$sh_data/small_64D_sh_tournier07.mif"
+n=0
+for type in int8 uint8 int16le int16be uint16le uint16be int32le int32be uint32le uint32be \
+            float32le float32be float64le float64be; do
+  for strides in 1,2,3,4 -2,3,-4,1 4,-3,2,1; do
+    ext=mif
+    [ $((n % 2)) -eq 1 ] && ext=mif.gz
+    mrconvert -quiet -force "$source" -coord 0 0:1 -coord 1 0:2 -coord 2 0:1 -coord 3 0:5 \
+      -datatype "$type" -strides "$strides" "$out/MIF/${type}_${strides//,/_}.$ext"
+    n=$((n + 1))
+  done
+done
+echo "seeds: $(ls "$out/MIF" | wc -l) MIF, $(ls "$out/TCK" | wc -l) TCK," \
+  "$(ls "$out/TrackVis" | wc -l) TrackVis, $(ls "$out/SWC" | wc -l) SWC"

@@ -60,20 +60,14 @@ private:
 /// Defines a mapper's Set/GetInteractiveSubsampling and Set/GetInteractiveUpdateRate (declared
 /// in its header) by forwarding to its SightlineWindowFrame `frame` (a member path from
 /// `this`); a setter that changes the value calls Modified().
-#define sightlineWindowFrameSettingsMacro(mapperClass, frame)                                    \
-  void mapperClass::SetInteractiveSubsampling(int step)                                         \
-  {                                                                                              \
-    if (this->frame.SetInteractiveSubsampling(step))                                             \
-    {                                                                                            \
-      this->Modified();                                                                          \
-    }                                                                                            \
-  }                                                                                              \
+#define sightlineWindowFrameSettingsMacro(mapperClass, frame)                                   \
+  void mapperClass::SetInteractiveSubsampling(int step)                                        \
+  {                                                                                             \
+    if (this->frame.SetInteractiveSubsampling(step)) { this->Modified(); }                      \
+  }                                                                                             \
   int mapperClass::GetInteractiveSubsampling() { return this->frame.GetInteractiveSubsampling(); } \
-  void mapperClass::SetInteractiveUpdateRate(double rate)                                        \
-  {                                                                                              \
-    if (this->frame.SetInteractiveUpdateRate(rate))                                              \
-    {                                                                                            \
-      this->Modified();                                                                          \
-    }                                                                                            \
-  }                                                                                              \
+  void mapperClass::SetInteractiveUpdateRate(double rate)                                       \
+  {                                                                                             \
+    if (this->frame.SetInteractiveUpdateRate(rate)) { this->Modified(); }                       \
+  }                                                                                             \
   double mapperClass::GetInteractiveUpdateRate() { return this->frame.GetInteractiveUpdateRate(); }

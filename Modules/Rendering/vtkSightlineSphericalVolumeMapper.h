@@ -215,6 +215,9 @@ private:
   vtkSightlineSphericalVolumeMapper(const vtkSightlineSphericalVolumeMapper&) = delete;
   void operator=(const vtkSightlineSphericalVolumeMapper&) = delete;
 
+  // Half the thinnest radial cell, when SampleDistance is 0.
+  double AutomaticSampleDistance();
+
 #ifndef __VTK_WRAP__
   // SightlineTracer, for the window frame and vtkSightlineImageRenderer.
   Pass GetPass(vtkProp3D*) override { return Pass::Volumetric; }
@@ -223,8 +226,6 @@ private:
   bool UpdateScene() override;
   vtkMTimeType GetSceneTime() override;
 #endif
-
-  double AutomaticSampleDistance();
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

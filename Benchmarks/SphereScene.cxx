@@ -22,6 +22,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "SightlineKernelConversions.h" // the matrix conversion every Sightline mapper uses
 #include "vtkSightlineImageRenderer.h"
 #include "vtkSightlineSphereMapper.h"
 #include "vtkSphereSource.h"
@@ -266,7 +267,7 @@ MethodResult runEmbreeBuiltin(
   std::unique_ptr<sightline::EmbreeScene> scene;
   const int width = options.width, height = options.height;
   const sightline::Camera view(
-    vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1)), width,
+    SightlineKernelConversions::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1)), width,
     height);
   double position[3], focal[3];
   camera->GetPosition(position);

@@ -1,23 +1,15 @@
 #include "SightlineWindowCompositor.h"
 
-#include "vtkSightlineMapper.h"
-
-#include "vtkCamera.h"
-#include "vtkMatrix4x4.h"
 #include "vtkOpenGLFramebufferObject.h"
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderUtilities.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
-#include "vtkRenderer.h"
 #include "vtkShaderProgram.h"
 #include "vtk_glew.h"
 
-#include "sightline/core/Shading.h"
-
 #include <algorithm>
-#include <cstring>
 #include <string>
 
 namespace
@@ -52,42 +44,6 @@ SightlineWindowCompositor::RenderFramebufferBinding::~RenderFramebufferBinding()
   {
     this->State->PopFramebufferBindings();
   }
-}
-
-int SightlineWindowCompositor::TraceStep(vtkRenderWindow* window, double interactiveRate, int subsampling)
-{
-  return window->GetDesiredUpdateRate() > interactiveRate ? subsampling : 1;
-}
-
-std::vector<double> SightlineWindowCompositor::ViewKey(
-  vtkRenderer* renderer, vtkMatrix4x4* propMatrix, int traceWidth, int traceHeight)
-{
-  std::vector<double> key;
-  vtkCamera* camera = renderer->GetActiveCamera();
-  vtkMatrix4x4* projection =
-    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
-  key.insert(key.end(), &projection->Element[0][0], &projection->Element[0][0] + 16);
-  key.insert(key.end(), &propMatrix->Element[0][0], &propMatrix->Element[0][0] + 16);
-  key.push_back(traceWidth);
-  key.push_back(traceHeight);
-  for (const auto& light : vtkSightlineMapper::MakeLighting(renderer->GetLights(), camera).lights)
-  {
-    key.insert(key.end(), { light.direction.x, light.direction.y, light.direction.z, light.color.r,
-                            light.color.g, light.color.b, light.intensity });
-  }
-  return key;
-}
-
-double SightlineWindowCompositor::DepthKey(const std::vector<float>& depth)
-{
-  std::uint64_t hash = 1469598103934665603ull;
-  for (float d : depth)
-  {
-    std::uint32_t bits;
-    std::memcpy(&bits, &d, sizeof(bits));
-    hash = (hash ^ bits) * 1099511628211ull;
-  }
-  return static_cast<double>(hash >> 11); // exact in a double
 }
 
 std::vector<float> SightlineWindowCompositor::ReadDepth(vtkOpenGLRenderWindow* window, int x0, int y0, int width, int height, int step, int traceWidth, int traceHeight)

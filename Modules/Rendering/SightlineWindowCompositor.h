@@ -1,8 +1,8 @@
 // Draws a CPU-rendered frame (colour and window depth) into a VTK OpenGL window with a
-// full-viewport quad, and reads back the depth of what OpenGL has drawn so far. Shared by
-// vtkSightlineMapper (surfaces) and vtkSightlineSphericalVolumeMapper (volumes): the same
-// contract as VTK's own CPU ray casters, opaque geometry first, depth-aware.
-// Private to the Rendering module (not wrapped).
+// full-viewport quad, and reads back the depth of what OpenGL has drawn so far: the same
+// contract as VTK's own CPU ray casters, opaque geometry first, depth-aware. OpenGL only; the
+// frame loop that decides what to draw is SightlineWindowFrame.
+// Private to the Rendering module (not wrapped, not installed).
 #pragma once
 
 #include "vtkNew.h"
@@ -12,12 +12,9 @@
 #include <memory>
 #include <vector>
 
-class vtkMatrix4x4;
 class vtkOpenGLQuadHelper;
 class vtkOpenGLRenderWindow;
 class vtkOpenGLState;
-class vtkRenderWindow;
-class vtkRenderer;
 class vtkWindow;
 
 class SightlineWindowCompositor
@@ -45,19 +42,6 @@ public:
   private:
     vtkOpenGLState* State = nullptr;
   };
-
-  /// The pixel step of a frame: `subsampling` while the window asks for more frames per second
-  /// than `interactiveRate` (the user drags), else 1.
-  static int TraceStep(vtkRenderWindow* window, double interactiveRate, int subsampling);
-
-  /// What a ray-traced frame depends on besides the data: the renderer's projection at its
-  /// tiled aspect, the prop's matrix, the traced size and the renderer's lights as the kernel
-  /// sees them. Compare keys to reuse an unchanged frame.
-  static std::vector<double> ViewKey(
-    vtkRenderer* renderer, vtkMatrix4x4* propMatrix, int traceWidth, int traceHeight);
-
-  /// A key entry for a depth image the rays stop at (FNV-1a hash of its bits).
-  static double DepthKey(const std::vector<float>& depth);
 
   /// Window depth of the viewport (x0, y0, width, height) sampled at the centre of every
   /// step x step block: traceWidth x traceHeight values, bottom row first.

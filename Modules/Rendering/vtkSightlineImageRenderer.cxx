@@ -5,16 +5,17 @@
 #include "vtkCamera.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "SightlineTracer.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
+#include "vtkMapper.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
-#include "vtkSightlineMapper.h"
-#include "vtkSightlineSphericalVolumeMapper.h"
+#include "vtkAbstractVolumeMapper.h"
 #include "vtkVolume.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
@@ -23,6 +24,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 vtkStandardNewMacro(vtkSightlineImageRenderer);
 
@@ -236,74 +238,66 @@ int vtkSightlineImageRenderer::RequestData(
     return 0;
   }
 
+  // Every prop whose mapper is a Sightline tracer, by pass: opaque actors composited by depth
+  // as the depth test does in a window; then translucent actors, each stopped at that depth
+  // and blended over, as VTK's translucent pass does; volumes last, as its volumetric pass.
+  struct TracedProp
+  {
+    vtkProp3D* Prop;
+    SightlineTracer* Tracer;
+    SightlineTracer::Pass Pass;
+  };
+  std::vector<TracedProp> props;
+  auto collect = [&](vtkProp3D* prop, vtkAbstractMapper* mapper)
+  {
+    if (!prop->GetVisibility())
+    {
+      return;
+    }
+    if (SightlineTracer* tracer = SightlineTracer::Of(mapper))
+    {
+      props.push_back({ prop, tracer, tracer->GetPass(prop) });
+      return;
+    }
+    vtkWarningMacro(<< "Skipping a " << prop->GetClassName() << " whose mapper is "
+                    << (mapper ? mapper->GetClassName() : "null")
+                    << "; only Sightline mappers (vtkSightlineMapper subclasses, "
+                       "vtkSightlineSphericalVolumeMapper) can be rendered without OpenGL.");
+  };
+  vtkCollectionSimpleIterator it;
+  this->Actors->InitTraversal(it);
+  while (vtkActor* actor = this->Actors->GetNextActor(it))
+  {
+    collect(actor, actor->GetMapper());
+  }
+  this->Volumes->InitTraversal(it);
+  while (vtkVolume* volume = this->Volumes->GetNextVolume(it))
+  {
+    collect(volume, volume->GetMapper());
+  }
+  std::stable_sort(props.begin(), props.end(),
+    [](const TracedProp& a, const TracedProp& b) { return a.Pass < b.Pass; });
+
   sightline::Framebuffer image(width, height);
   sightline::Framebuffer layer;
-  const int actorCount = this->Actors->GetNumberOfItems() + this->Volumes->GetNumberOfItems();
   int done = 0;
-  // Opaque actors first, composited by depth as the depth test does when the same actors are
-  // drawn into a window; then translucent ones, each stopped at that depth and blended over,
-  // as VTK's translucent pass does.
-  for (const bool translucentPass : { false, true })
+  for (const TracedProp& traced : props)
   {
-    vtkCollectionSimpleIterator it;
-    this->Actors->InitTraversal(it);
-    while (vtkActor* actor = this->Actors->GetNextActor(it))
-    {
-      if (!actor->GetVisibility())
-      {
-        continue;
-      }
-      auto* mapper = vtkSightlineMapper::SafeDownCast(actor->GetMapper());
-      if (!mapper)
-      {
-        if (!translucentPass)
-        {
-          vtkWarningMacro(<< "Skipping an actor whose mapper is "
-                          << (actor->GetMapper() ? actor->GetMapper()->GetClassName() : "null")
-                          << "; only vtkSightlineMapper subclasses can be rendered without OpenGL.");
-        }
-        continue;
-      }
-      if (mapper->IsTranslucentFor(actor) != translucentPass)
-      {
-        continue;
-      }
-      this->UpdateProgress(double(done++) / std::max(actorCount, 1));
-      if (!translucentPass)
-      {
-        if (mapper->RayTrace(actor, this->ActiveCamera, this->Lights, width, height, layer))
-        {
-          image.compositeNearest(layer);
-        }
-      }
-      else if (mapper->RayTrace(
-                 actor, this->ActiveCamera, this->Lights, width, height, layer, &image.Depth))
-      {
-        image.blendUnder(layer);
-      }
-    }
-  }
-  // Volumes last, stopped at the depth drawn so far, as in VTK's volumetric pass.
-  vtkCollectionSimpleIterator volumeIt;
-  this->Volumes->InitTraversal(volumeIt);
-  while (vtkVolume* volume = this->Volumes->GetNextVolume(volumeIt))
-  {
-    if (!volume->GetVisibility())
+    this->UpdateProgress(double(done++) / props.size());
+    const bool opaque = traced.Pass == SightlineTracer::Pass::Opaque;
+    if (!traced.Tracer->RayTrace(traced.Prop, this->ActiveCamera, this->Lights, width, height,
+          layer, opaque ? nullptr : &image.Depth))
     {
       continue;
     }
-    auto* mapper = vtkSightlineSphericalVolumeMapper::SafeDownCast(volume->GetMapper());
-    if (!mapper)
+    if (opaque)
     {
-      vtkWarningMacro(<< "Skipping a volume whose mapper is "
-                      << (volume->GetMapper() ? volume->GetMapper()->GetClassName() : "null")
-                      << "; only vtkSightlineSphericalVolumeMapper renders without OpenGL.");
-      continue;
+      image.compositeNearest(layer);
     }
-    this->UpdateProgress(double(done++) / std::max(actorCount, 1));
-    if (mapper->RayTrace(volume, this->ActiveCamera, this->Lights, width, height, layer, &image.Depth))
+    else
     {
-      image.blendUnder(layer, true);
+      // Volumes keep the depth of their first visible sample, as in a window.
+      image.blendUnder(layer, traced.Pass == SightlineTracer::Pass::Volumetric);
     }
   }
   this->UpdateProgress(1.0);

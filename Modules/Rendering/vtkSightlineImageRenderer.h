@@ -12,7 +12,8 @@
  * - "Depth": float window depth in [0, 1] as OpenGL would store it (1 where nothing was hit).
  *
  * The pixels equal what the same actors show in a vtkRenderWindow of the same size (within
- * one 8-bit level: both go through vtkSightlineMapper::RayTrace). Write the image with
+ * one 8-bit level: both trace through the mappers' SightlineTracer interface, as the window
+ * does). Write the image with
  * vtkPNGWriter, or keep the depth with the kernel's EXR output.
  *
  * The output is recomputed when this filter, its camera, lights, actors (and their

@@ -47,26 +47,26 @@
 #define vtkSightlineMapper_h
 
 #include "SightlineRenderingModule.h" // for export macro
+#include "SightlineTracer.h"          // for the interface the window frame and image renderer use
 #include "vtkMapper.h"
 
 #ifndef __VTK_WRAP__
-#include <glm/mat4x4.hpp> // for glm::dmat4
-#include <memory>          // for std::shared_ptr
-#include <vector>          // for std::vector
+#include <memory> // for std::shared_ptr
+#include <vector> // for std::vector
 namespace sightline
 {
 class Framebuffer;
 class Geometry;
-struct Lighting;
 struct RenderOptions;
 }
 #endif
 
 class vtkCamera;
 class vtkLightCollection;
-class vtkMatrix4x4;
 
-class SIGHTLINERENDERING_EXPORT vtkSightlineMapper : public vtkMapper
+class SIGHTLINERENDERING_EXPORT vtkSightlineMapper
+  : public vtkMapper
+  , public SightlineTracer
 {
 public:
   vtkTypeMacro(vtkSightlineMapper, vtkMapper);
@@ -106,10 +106,10 @@ public:
   ///@{
   /**
    * Pixel step used while the render window asks for an interactive frame rate
-   * (1 disables subsampling). Default 2.
+   * (1 disables subsampling), clamped to [1, 16]. Default 2.
    */
-  vtkSetClampMacro(InteractiveSubsampling, int, 1, 16);
-  vtkGetMacro(InteractiveSubsampling, int);
+  void SetInteractiveSubsampling(int step);
+  int GetInteractiveSubsampling();
   ///@}
 
   enum ShadowModes
@@ -148,8 +148,8 @@ public:
    * vtkRenderWindowInteractor asks for 15 while the user drags and 0.0001 when still.
    * Default 1.
    */
-  vtkSetMacro(InteractiveUpdateRate, double);
-  vtkGetMacro(InteractiveUpdateRate, double);
+  void SetInteractiveUpdateRate(double rate);
+  double GetInteractiveUpdateRate();
   ///@}
 
   /**
@@ -168,26 +168,14 @@ public:
 
 #ifndef __VTK_WRAP__
   /**
-   * GL-free path: ray-trace the primitives of `actor` as `camera` sees them in an image of
-   * width x height pixels (aspect width/height), lit by `lights` (VTK's automatic headlight
-   * when null or empty), into `framebuffer`. Returns false (after reporting an error) if
-   * nothing could be rendered. The window path uses this same function.
+   * GL-free path: ray-trace the primitives of `actor` (a vtkActor) as `camera` sees them in an
+   * image of width x height pixels (aspect width/height), lit by `lights` (VTK's automatic
+   * headlight when null or empty), into `framebuffer`. Returns false (after reporting an
+   * error) if nothing could be rendered. The window path uses this same function.
    */
-  bool RayTrace(vtkActor* actor, vtkCamera* camera, vtkLightCollection* lights, int width,
+  bool RayTrace(vtkProp3D* actor, vtkCamera* camera, vtkLightCollection* lights, int width,
     int height, sightline::Framebuffer& framebuffer,
-    const std::vector<float>* depthLimit = nullptr);
-
-  /**
-   * The kernel lighting VTK would apply with these lights and this camera: headlights follow
-   * the camera, camera lights are transformed with it, scene lights stay. An empty or null
-   * collection gives VTK's automatic headlight.
-   */
-  static sightline::Lighting MakeLighting(vtkLightCollection* lights, vtkCamera* camera);
-
-  /**
-   * A vtkMatrix4x4 (row-major, column vectors) as the kernel's column-major GLM matrix.
-   */
-  static glm::dmat4 ToKernelMatrix(vtkMatrix4x4* matrix);
+    const std::vector<float>* depthLimit = nullptr) override;
 #endif
 
 protected:
@@ -218,8 +206,6 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
-  int InteractiveSubsampling = 2;
-  double InteractiveUpdateRate = 1.0;
   int ShadowMode = SHADOWS_OFF;
   int ShadowSamples = 16;
   double LightAngularRadius = 8.6;
@@ -231,8 +217,13 @@ private:
   vtkSightlineMapper(const vtkSightlineMapper&) = delete;
   void operator=(const vtkSightlineMapper&) = delete;
 
+#ifndef __VTK_WRAP__
+  // SightlineTracer, for the window frame and vtkSightlineImageRenderer.
+  Pass GetPass(vtkProp3D* prop) override;
   // Brings the geometry and BVH up to date with the input; false when there is nothing to draw.
-  bool UpdateScene();
+  bool UpdateScene() override;
+  vtkMTimeType GetSceneTime() override;
+#endif
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -1,12 +1,13 @@
 #include "vtkSightlineSphereMapper.h"
 
+#include "SightlineKernelConversions.h"
+
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
-#include "vtkUnsignedCharArray.h"
 
 #include "sightline/spheres/SphereSet.h"
 
@@ -90,35 +91,18 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSphereMapper::BuildGeometry()
     return nullptr;
   }
 
-  std::vector<std::uint32_t> colors;
-  if (this->ScalarVisibility)
+  bool cellScalars = false;
+  const std::vector<std::uint32_t> colors =
+    SightlineKernelConversions::PointColors(this, input, &cellScalars);
+  if (cellScalars)
   {
-    int cellFlag = 0;
-    vtkUnsignedCharArray* mapped = this->MapScalars(input, 1.0, cellFlag);
-    if (mapped && !cellFlag && mapped->GetNumberOfTuples() == count &&
-      mapped->GetNumberOfComponents() >= 3)
-    {
-      colors.resize(count);
-      const int components = mapped->GetNumberOfComponents();
-      for (vtkIdType i = 0; i < count; ++i)
-      {
-        const unsigned char* c = mapped->GetPointer(i * components);
-        colors[i] = sightline::packRGBA8(c[0], c[1], c[2], components > 3 ? c[3] : 255);
-      }
-    }
-    else if (mapped && cellFlag)
-    {
-      vtkWarningMacro(<< "Cell scalars cannot colour spheres (one per point); using the "
-                         "actor's colour.");
-    }
+    vtkWarningMacro(<< "Cell scalars cannot colour spheres (one per point); using the "
+                       "actor's colour.");
   }
 
   auto spheres = std::make_shared<sightline::SphereSet>(
     centers, radii, static_cast<float>(this->Radius), colors);
-  for (const std::string& reason : spheres->report().reasons)
-  {
-    vtkWarningMacro(<< reason << ".");
-  }
+  SightlineKernelConversions::WarnAboutReport(this, spheres->report());
   return spheres;
 }
 

@@ -1,23 +1,19 @@
 #include "vtkSightlineSphericalVolumeMapper.h"
 
-#include "SightlineWindowCompositor.h"
-#include "vtkSightlineMapper.h"
+#include "SightlineKernelConversions.h"
+#include "SightlineWindowFrame.h"
 
 #include "vtkCamera.h"
 #include "vtkCellData.h"
 #include "vtkColorTransferFunction.h"
-#include "vtkCommand.h"
 #include "vtkDataArray.h"
 #include "vtkAlgorithm.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
-#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
-#include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRectilinearGrid.h"
-#include "vtkRenderer.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -53,11 +49,8 @@ public:
   vtkMTimeType UnshadedPropertyTime = 0;
   vtkMTimeType UnshadedGridTime = 0;
 
-  // Last window frame, reused while nothing that affects it changes.
-  sightline::Framebuffer Frame;
-  std::vector<double> FrameKey;
-  std::vector<std::uint8_t> Rgba;
-  SightlineWindowCompositor Compositor;
+  // The window path: frame cache, compositing, interactive subsampling.
+  SightlineWindowFrame Window;
   bool WarnedShadedPoints = false;
 };
 
@@ -177,7 +170,7 @@ sightline::TransferSample SampleTransfer(vtkVolumeProperty* property, double v)
 } // namespace
 
 //------------------------------------------------------------------------------
-bool vtkSightlineSphericalVolumeMapper::UpdateGrid()
+bool vtkSightlineSphericalVolumeMapper::UpdateScene()
 {
   vtkInternals& in = *this->Internals;
   if (this->GetNumberOfInputConnections(0) > 0)
@@ -384,7 +377,7 @@ double vtkSightlineSphericalVolumeMapper::AutomaticSampleDistance()
 //------------------------------------------------------------------------------
 double* vtkSightlineSphericalVolumeMapper::GetBounds()
 {
-  if (!this->UpdateGrid())
+  if (!this->UpdateScene())
   {
     vtkMath::UninitializeBounds(this->Bounds);
     return this->Bounds;
@@ -394,10 +387,11 @@ double* vtkSightlineSphericalVolumeMapper::GetBounds()
 }
 
 //------------------------------------------------------------------------------
-bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* camera,
+bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkProp3D* prop, vtkCamera* camera,
   vtkLightCollection* lights, int width, int height, sightline::Framebuffer& framebuffer,
   const std::vector<float>* depthLimit)
 {
+  auto* volume = vtkVolume::SafeDownCast(prop);
   if (!volume || !camera)
   {
     vtkErrorMacro(<< "RayTrace needs a volume and a camera.");
@@ -409,7 +403,7 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
     return false;
   }
   framebuffer.resize(width, height);
-  if (!this->UpdateGrid())
+  if (!this->UpdateScene())
   {
     return false;
   }
@@ -443,9 +437,10 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
   }
 
   const double aspect = double(width) / height;
-  const sightline::dmat4 objectToWorld = vtkSightlineMapper::ToKernelMatrix(volume->GetMatrix());
+  using SightlineKernelConversions::ToKernelMatrix;
+  const sightline::dmat4 objectToWorld = ToKernelMatrix(volume->GetMatrix());
   const sightline::dmat4 worldToClip =
-    vtkSightlineMapper::ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1));
+    ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(aspect, -1, 1));
   try
   {
     const sightline::Camera view(worldToClip * objectToWorld, width, height);
@@ -467,13 +462,10 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
         in.Centres = in.Cylinder ? sightline::cellCentres(in.Cylinder->grid())
                                  : sightline::cellCentres(in.Traversal->grid());
       }
-      sightline::Material material;
-      material.ambient = static_cast<float>(property->GetAmbient(0));
-      material.diffuse = static_cast<float>(property->GetDiffuse(0));
-      material.specular = static_cast<float>(property->GetSpecular(0));
-      material.specularPower = static_cast<float>(property->GetSpecularPower(0));
+      const sightline::Material material =
+        SightlineKernelConversions::MaterialFromVolumeProperty(property);
       // Lights travel in world space; the cells are lit in the grid's own coordinates.
-      sightline::Lighting lighting = vtkSightlineMapper::MakeLighting(lights, camera);
+      sightline::Lighting lighting = SightlineKernelConversions::MakeLighting(lights, camera);
       const glm::dmat3 worldToGrid = glm::inverse(glm::dmat3(objectToWorld));
       for (auto& light : lighting.lights)
       {
@@ -487,11 +479,7 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
     sightline::SphericalVolumeOptions options;
     options.depthLimit = depthLimit;
     options.minimumTransmittance = this->MinimumTransmittance;
-    options.progress = [this](double fraction)
-    {
-      this->UpdateProgress(fraction);
-      return !this->AbortExecute;
-    };
+    options.progress = SightlineKernelConversions::ProgressCallback(this);
     sightline::SphericalVolumeStatistics stats;
     if (!in.PointValues.empty() && this->InterpolatePointData && !property->GetShade(0))
     {
@@ -531,76 +519,26 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkVolume* volume, vtkCamera* c
 }
 
 //------------------------------------------------------------------------------
+vtkMTimeType vtkSightlineSphericalVolumeMapper::GetSceneTime()
+{
+  return this->Internals->GridTime.GetMTime();
+}
+
+//------------------------------------------------------------------------------
 void vtkSightlineSphericalVolumeMapper::Render(vtkRenderer* renderer, vtkVolume* volume)
 {
-  int width = 0, height = 0, x0 = 0, y0 = 0;
-  renderer->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
-  if (width <= 0 || height <= 0)
-  {
-    return;
-  }
-  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
-  if (!window)
-  {
-    vtkErrorMacro(<< "vtkSightlineSphericalVolumeMapper needs an OpenGL render window.");
-    return;
-  }
-  vtkCamera* camera = renderer->GetActiveCamera();
-  vtkInternals& in = *this->Internals;
-  this->InvokeEvent(vtkCommand::StartEvent, nullptr);
-  if (!this->UpdateGrid())
-  {
-    this->InvokeEvent(vtkCommand::EndEvent, nullptr);
-    return;
-  }
-
-  const int step = SightlineWindowCompositor::TraceStep(
-    window, this->InteractiveUpdateRate, this->InteractiveSubsampling);
-  const int traceWidth = (width + step - 1) / step;
-  const int traceHeight = (height + step - 1) / step;
-
-  // The geometry drawn so far (opaque, translucent) is in the render framebuffer; rays stop at
-  // its depth.
-  SightlineWindowCompositor::RenderFramebufferBinding binding(window);
-  const std::vector<float> depthLimit =
-    SightlineWindowCompositor::ReadDepth(window, x0, y0, width, height, step, traceWidth, traceHeight);
-
-  // Everything the frame depends on; an unchanged key reuses the last image.
-  std::vector<double> key =
-    SightlineWindowCompositor::ViewKey(renderer, volume->GetMatrix(), traceWidth, traceHeight);
-  key.push_back(static_cast<double>(in.GridTime.GetMTime()));
-  key.push_back(static_cast<double>(volume->GetProperty()->GetMTime()));
-  key.push_back(static_cast<double>(this->GetMTime()));
-  key.push_back(SightlineWindowCompositor::DepthKey(depthLimit)); // what is behind
-
-  bool changed = false;
-  if (key != in.FrameKey)
-  {
-    in.FrameKey.clear();
-    if (!this->RayTrace(volume, camera, renderer->GetLights(), traceWidth, traceHeight, in.Frame,
-          &depthLimit))
-    {
-      this->InvokeEvent(vtkCommand::EndEvent, nullptr);
-      return;
-    }
-    in.Rgba = in.Frame.toRGBA8(sightline::vec3(0.0f));
-    in.FrameKey = key;
-    changed = true;
-  }
-  if (!in.Compositor.Draw(window, traceWidth, traceHeight, in.Rgba.data(), in.Frame.Depth.data(),
-        changed, SightlineWindowCompositor::Blending::PremultipliedDepth))
-  {
-    vtkErrorMacro(<< "Could not compile the compositing shader.");
-  }
-  this->InvokeEvent(vtkCommand::EndEvent, nullptr);
+  this->Internals->Window.Render(this, *this, renderer, volume);
 }
 
 //------------------------------------------------------------------------------
 void vtkSightlineSphericalVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
-  this->Internals->Compositor.ReleaseGraphicsResources(window);
+  this->Internals->Window.ReleaseGraphicsResources(window);
   this->Superclass::ReleaseGraphicsResources(window);
 }
+
+//------------------------------------------------------------------------------
+sightlineWindowFrameSettingsMacro(vtkSightlineSphericalVolumeMapper, Internals->Window)
 
 //------------------------------------------------------------------------------
 void vtkSightlineSphericalVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
@@ -613,8 +551,7 @@ void vtkSightlineSphericalVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InterpolatePointData: " << (this->InterpolatePointData ? "on" : "off") << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance
      << (this->SampleDistance > 0.0 ? "" : " (automatic)") << "\n";
-  os << indent << "InteractiveSubsampling: " << this->InteractiveSubsampling << "\n";
-  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
+  this->Internals->Window.PrintSelf(os, indent);
   os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";
   os << indent << "LastCellsVisited: " << this->LastCellsVisited << "\n";
   os << indent << "CoordinateSystem: "

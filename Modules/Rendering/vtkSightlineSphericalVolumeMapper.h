@@ -49,6 +49,7 @@
 #define vtkSightlineSphericalVolumeMapper_h
 
 #include "SightlineRenderingModule.h" // for export macro
+#include "SightlineTracer.h"          // for the interface the window frame and image renderer use
 #include "vtkVolumeMapper.h"
 
 #ifndef __VTK_WRAP__
@@ -65,7 +66,9 @@ class vtkCamera;
 class vtkLightCollection;
 class vtkRectilinearGrid;
 
-class SIGHTLINERENDERING_EXPORT vtkSightlineSphericalVolumeMapper : public vtkVolumeMapper
+class SIGHTLINERENDERING_EXPORT vtkSightlineSphericalVolumeMapper
+  : public vtkVolumeMapper
+  , public SightlineTracer
 {
 public:
   static vtkSightlineSphericalVolumeMapper* New();
@@ -151,13 +154,14 @@ public:
 
   ///@{
   /**
-   * Pixel step while the render window asks for an interactive frame rate above
-   * InteractiveUpdateRate (1 disables subsampling). Defaults 2 and 1 frame per second.
+   * Pixel step (clamped to [1, 16]; 1 disables subsampling) while the render window asks for
+   * an interactive frame rate above InteractiveUpdateRate. Defaults 2 and 1 frame per second,
+   * as vtkSightlineMapper.
    */
-  vtkSetClampMacro(InteractiveSubsampling, int, 1, 16);
-  vtkGetMacro(InteractiveSubsampling, int);
-  vtkSetMacro(InteractiveUpdateRate, double);
-  vtkGetMacro(InteractiveUpdateRate, double);
+  void SetInteractiveSubsampling(int step);
+  int GetInteractiveSubsampling();
+  void SetInteractiveUpdateRate(double rate);
+  double GetInteractiveUpdateRate();
   ///@}
 
   /**
@@ -171,6 +175,18 @@ public:
    */
   void Render(vtkRenderer* renderer, vtkVolume* volume) override;
 
+#ifndef __VTK_WRAP__
+  /**
+   * GL-free path: ray-cast `volume` (a vtkVolume) as `camera` sees it into a width x height
+   * framebuffer (colour not premultiplied, depth of the first visible cell), stopping rays at
+   * `depthLimit` (window depths, bottom row first) when given. Returns false after reporting
+   * an error when nothing could be rendered. The window path uses this same function.
+   */
+  bool RayTrace(vtkProp3D* volume, vtkCamera* camera, vtkLightCollection* lights, int width,
+    int height, sightline::Framebuffer& framebuffer,
+    const std::vector<float>* depthLimit = nullptr) override;
+#endif
+
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
   /**
@@ -179,18 +195,6 @@ public:
    */
   double* GetBounds() VTK_SIZEHINT(6) override;
   using vtkAbstractMapper3D::GetBounds;
-
-#ifndef __VTK_WRAP__
-  /**
-   * GL-free path: ray-cast the volume as `camera` sees it into a width x height framebuffer
-   * (colour not premultiplied, depth of the first visible cell), stopping rays at
-   * `depthLimit` (window depths, bottom row first) when given. Returns false after reporting
-   * an error when nothing could be rendered. The window path uses this same function.
-   */
-  bool RayTrace(vtkVolume* volume, vtkCamera* camera, vtkLightCollection* lights, int width,
-    int height, sightline::Framebuffer& framebuffer,
-    const std::vector<float>* depthLimit = nullptr);
-#endif
 
 protected:
   vtkSightlineSphericalVolumeMapper();
@@ -204,8 +208,6 @@ protected:
   int AngleUnits = RADIANS;
   int PolarAngle = COLATITUDE;
   double MinimumTransmittance = 0.002;
-  int InteractiveSubsampling = 2;
-  double InteractiveUpdateRate = 1.0;
   double LastFrameSeconds = 0.0;
   vtkIdType LastCellsVisited = 0;
 
@@ -213,10 +215,17 @@ private:
   vtkSightlineSphericalVolumeMapper(const vtkSightlineSphericalVolumeMapper&) = delete;
   void operator=(const vtkSightlineSphericalVolumeMapper&) = delete;
 
+  // Half the thinnest radial cell, when SampleDistance is 0.
+  double AutomaticSampleDistance();
+
+#ifndef __VTK_WRAP__
+  // SightlineTracer, for the window frame and vtkSightlineImageRenderer.
+  Pass GetPass(vtkProp3D*) override { return Pass::Volumetric; }
   // Brings the kernel grid and cell values up to date with the input; false (after an error)
   // when there is nothing to draw.
-  bool UpdateGrid();
-  double AutomaticSampleDistance();
+  bool UpdateScene() override;
+  vtkMTimeType GetSceneTime() override;
+#endif
 
   class vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

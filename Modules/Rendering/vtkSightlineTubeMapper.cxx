@@ -1,5 +1,7 @@
 #include "vtkSightlineTubeMapper.h"
 
+#include "SightlineKernelConversions.h"
+
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
@@ -10,7 +12,6 @@
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkUnsignedCharArray.h"
 
 #include "sightline/tubes/TubeSet.h"
 
@@ -91,22 +92,8 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     return nullptr;
   }
 
-  std::vector<std::uint32_t> pointColors;
-  if (this->ScalarVisibility)
-  {
-    int cellFlag = 0;
-    vtkUnsignedCharArray* mapped = this->MapScalars(input, 1.0, cellFlag);
-    if (mapped && !cellFlag && mapped->GetNumberOfTuples() == count && mapped->GetNumberOfComponents() >= 3)
-    {
-      const int n = mapped->GetNumberOfComponents();
-      pointColors.resize(count);
-      for (vtkIdType i = 0; i < count; ++i)
-      {
-        const unsigned char* c = mapped->GetPointer(i * n);
-        pointColors[i] = sightline::packRGBA8(c[0], c[1], c[2], n > 3 ? c[3] : 255);
-      }
-    }
-  }
+  const std::vector<std::uint32_t> pointColors =
+    SightlineKernelConversions::PointColors(this, input);
 
   // Control points and their predecessors: the input's points with the predecessor array, or a
   // copy of each polyline's points (a point may be interior to several polylines).
@@ -173,10 +160,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     layout.transforms = this->LinkLayout % 2 == 1 ? sightline::TubeLayout::Transforms::Precomputed
                                                   : sightline::TubeLayout::Transforms::OnTheFly;
     auto tubes = std::make_shared<sightline::TubeSet>(points, radii, predecessors, colors, layout);
-    for (const std::string& reason : tubes->report().reasons)
-    {
-      vtkWarningMacro(<< reason << ".");
-    }
+    SightlineKernelConversions::WarnAboutReport(this, tubes->report());
     this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
     return tubes;
   }

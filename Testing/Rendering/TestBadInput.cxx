@@ -11,11 +11,13 @@
 #include "vtkRenderer.h"
 #include "vtkSightlineImageRenderer.h"
 #include "vtkSightlineSphereMapper.h"
+#include "vtkSightlineSphericalVolumeMapper.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 using namespace sightline_test;
 
@@ -182,4 +184,34 @@ TEST(BadInput, ZeroSizeViewportAndImageAreReported)
   noCamera->AddActor(probe.actor);
   noCamera->Update();
   EXPECT_TRUE(noCameraMessages->Contains("No camera"));
+}
+
+// Both kinds of mapper share one implementation of the interactive settings: out-of-range
+// steps are clamped, an unchanged value does not modify the mapper, PrintSelf shows them.
+template <typename Mapper>
+void ExpectInteractiveSettings()
+{
+  vtkNew<Mapper> mapper;
+  EXPECT_EQ(mapper->GetInteractiveSubsampling(), 2);
+  EXPECT_EQ(mapper->GetInteractiveUpdateRate(), 1.0);
+  mapper->SetInteractiveSubsampling(0);
+  EXPECT_EQ(mapper->GetInteractiveSubsampling(), 1);
+  mapper->SetInteractiveSubsampling(40);
+  EXPECT_EQ(mapper->GetInteractiveSubsampling(), 16);
+  const vtkMTimeType time = mapper->GetMTime();
+  mapper->SetInteractiveSubsampling(16);
+  mapper->SetInteractiveUpdateRate(1.0);
+  EXPECT_EQ(mapper->GetMTime(), time);
+  mapper->SetInteractiveUpdateRate(5.0);
+  EXPECT_GT(mapper->GetMTime(), time);
+  std::ostringstream printed;
+  mapper->Print(printed);
+  EXPECT_NE(printed.str().find("InteractiveSubsampling: 16"), std::string::npos);
+  EXPECT_NE(printed.str().find("InteractiveUpdateRate: 5"), std::string::npos);
+}
+
+TEST(BadInput, InteractiveSettingsAreClampedAndPrintedByBothMapperKinds)
+{
+  ExpectInteractiveSettings<vtkSightlineSphereMapper>();
+  ExpectInteractiveSettings<vtkSightlineSphericalVolumeMapper>();
 }

@@ -1,9 +1,10 @@
 // The kernel camera against vtkCamera: the same world-to-clip matrix, and primary rays that
 // project back onto their pixel centres through VTK's own projection.
+#include "SightlineKernelConversions.h" // private to the module: the conversion under test
+
 #include "vtkCamera.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
-#include "vtkSightlineMapper.h"
 
 #include "sightline/core/Camera.h"
 
@@ -85,7 +86,7 @@ TEST(CameraMatchesVTK, RaysProjectOntoPixelCentres)
     camera->SetViewShear(0.05, 0.02, 1.0);
     const int width = int(s.aspectWidth), height = int(s.aspectHeight);
     vtkMatrix4x4* m = camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1);
-    const sightline::Camera ours(vtkSightlineMapper::ToKernelMatrix(m), width, height);
+    const sightline::Camera ours(SightlineKernelConversions::ToKernelMatrix(m), width, height);
 
     for (const double px : { 0.5, width / 3.0 + 0.5, width - 0.5 })
     {

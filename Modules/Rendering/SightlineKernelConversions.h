@@ -1,0 +1,66 @@
+// VTK -> kernel conversions shared by every Sightline mapper: matrices, lights, materials,
+// mapped scalars, progress and the kernel's validation reports. The one place where VTK
+// objects become sightline:: values, so the window and GL-free paths convert alike.
+// Private to the Rendering module (not wrapped, not installed).
+#pragma once
+
+#include "SightlineRenderingModule.h" // for export macro
+
+#include "vtkType.h" // for vtkIdType
+
+#include "sightline/core/Shading.h" // for sightline::Lighting, sightline::Material
+#include "sightline/math/Math.h"    // for sightline::dmat4
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+class vtkAlgorithm;
+class vtkCamera;
+class vtkDataSet;
+class vtkLightCollection;
+class vtkMapper;
+class vtkMatrix4x4;
+class vtkObject;
+class vtkProperty;
+class vtkVolumeProperty;
+
+namespace sightline
+{
+struct ValidationReport;
+}
+
+namespace SightlineKernelConversions
+{
+/// A vtkMatrix4x4 (row-major, column vectors) as the kernel's column-major GLM matrix.
+SIGHTLINERENDERING_EXPORT sightline::dmat4 ToKernelMatrix(vtkMatrix4x4* matrix);
+
+/// The kernel lighting VTK would apply with these lights and this camera: headlights follow
+/// the camera, camera lights are transformed with it, scene lights stay. An empty or null
+/// collection gives VTK's automatic headlight.
+SIGHTLINERENDERING_EXPORT sightline::Lighting MakeLighting(
+  vtkLightCollection* lights, vtkCamera* camera);
+
+/// Whether any switched-on light is positional (the kernel treats it as directional).
+bool HasPositionalLight(vtkLightCollection* lights);
+
+/// An actor's surface material: Phong terms, or the glTF dielectric for VTK_PBR, and opacity.
+sightline::Material MaterialFromProperty(vtkProperty* property);
+
+/// The Phong terms of a volume's shading (component 0).
+sightline::Material MaterialFromVolumeProperty(vtkVolumeProperty* property);
+
+/// The mapper's colours for the input's points, packed RGBA8 (sightline::packRGBA8), or
+/// empty when scalar colouring is off or gives no per-point colours. `cellScalars` is set
+/// when the mapped scalars are cell data, which per-point primitives cannot use.
+std::vector<std::uint32_t> PointColors(
+  vtkMapper* mapper, vtkDataSet* input, bool* cellScalars = nullptr);
+
+/// Each reason of a kernel geometry's report as a warning of `reporter` (observers of its
+/// WarningEvent see them as they see the reporter's own warnings).
+void WarnAboutReport(vtkObject* reporter, const sightline::ValidationReport& report);
+
+/// A kernel progress callback that reports through `algorithm`'s ProgressEvent and stops
+/// when its AbortExecute is set.
+std::function<bool(double)> ProgressCallback(vtkAlgorithm* algorithm);
+} // namespace SightlineKernelConversions

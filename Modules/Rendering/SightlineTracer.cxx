@@ -1,0 +1,10 @@
+#include "SightlineTracer.h"
+
+#include "vtkAbstractMapper.h"
+
+SightlineTracer::~SightlineTracer() = default;
+
+SightlineTracer* SightlineTracer::Of(vtkAbstractMapper* mapper)
+{
+  return dynamic_cast<SightlineTracer*>(mapper);
+}

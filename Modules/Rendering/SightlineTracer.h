@@ -1,0 +1,63 @@
+// The one interface through which Sightline props are traced, in a window
+// (SightlineWindowFrame) or without one (vtkSightlineImageRenderer). vtkSightlineMapper
+// (surfaces) and vtkSightlineSphericalVolumeMapper (volumes) implement it, so neither the
+// window loop nor the image renderer needs to know the concrete mapper classes.
+// C++ only (not wrapped), no third-party headers; installed because the mappers' public headers
+// derive from it.
+#ifndef SightlineTracer_h
+#define SightlineTracer_h
+
+#include "SightlineRenderingModule.h" // for export macro
+#include "vtkType.h"                  // for vtkMTimeType
+
+#include <vector> // for std::vector
+
+class vtkAbstractMapper;
+class vtkCamera;
+class vtkLightCollection;
+class vtkProp3D;
+namespace sightline
+{
+class Framebuffer;
+}
+
+class SIGHTLINERENDERING_EXPORT SightlineTracer
+{
+public:
+  /// Where a prop's frame goes, as in VTK's render passes. Opaque surfaces replace colour and
+  /// depth. Translucent surfaces are blended over the frame without writing depth; volumes are
+  /// blended over it and write the depth of their first visible sample. Rays of both stop at
+  /// the depth drawn before them.
+  enum class Pass
+  {
+    Opaque,
+    Translucent,
+    Volumetric
+  };
+
+  virtual ~SightlineTracer();
+
+  /// The tracer behind a mapper, or null when it is not a Sightline mapper.
+  static SightlineTracer* Of(vtkAbstractMapper* mapper);
+
+  /// The pass `prop` (whose mapper this is) is drawn in.
+  virtual Pass GetPass(vtkProp3D* prop) = 0;
+
+  /// Brings what is traced up to date with the input; false (after reporting why) when there
+  /// is nothing to draw.
+  virtual bool UpdateScene() = 0;
+
+  /// When what is traced was last rebuilt from the input (a frame also depends on the view,
+  /// the prop and the mapper, whose times the window frame reads itself).
+  virtual vtkMTimeType GetSceneTime() = 0;
+
+  /// Traces `prop` as `camera` sees it into a width x height framebuffer, lit by `lights`
+  /// (VTK's automatic headlight when null or empty), with rays stopped at `depthLimit` (window
+  /// depths, bottom row first) when given. Returns false after reporting an error when nothing
+  /// could be traced.
+  virtual bool RayTrace(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights,
+    int width, int height, sightline::Framebuffer& framebuffer,
+    const std::vector<float>* depthLimit = nullptr) = 0;
+};
+
+#endif

@@ -1,0 +1,182 @@
+#include "SightlineWindowFrame.h"
+
+#include "SightlineKernelConversions.h"
+#include "SightlineTracer.h"
+
+#include "vtkAbstractMapper3D.h"
+#include "vtkCamera.h"
+#include "vtkCommand.h"
+#include "vtkMatrix4x4.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkProp3D.h"
+#include "vtkRenderer.h"
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+
+namespace
+{
+// What a frame depends on besides the scene: the renderer's projection at its tiled aspect,
+// the prop's matrix, the traced size and the renderer's lights as the kernel sees them.
+std::vector<double> ViewKey(
+  vtkRenderer* renderer, vtkMatrix4x4* propMatrix, int traceWidth, int traceHeight)
+{
+  std::vector<double> key;
+  vtkCamera* camera = renderer->GetActiveCamera();
+  vtkMatrix4x4* projection =
+    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1);
+  key.insert(key.end(), &projection->Element[0][0], &projection->Element[0][0] + 16);
+  key.insert(key.end(), &propMatrix->Element[0][0], &propMatrix->Element[0][0] + 16);
+  key.push_back(traceWidth);
+  key.push_back(traceHeight);
+  const sightline::Lighting lighting =
+    SightlineKernelConversions::MakeLighting(renderer->GetLights(), camera);
+  for (const auto& light : lighting.lights)
+  {
+    key.insert(key.end(), { light.direction.x, light.direction.y, light.direction.z, light.color.r,
+                            light.color.g, light.color.b, light.intensity });
+  }
+  return key;
+}
+
+// A key entry for a depth image the rays stop at (FNV-1a hash of its bits).
+double DepthKey(const std::vector<float>& depth)
+{
+  std::uint64_t hash = 1469598103934665603ull;
+  for (float d : depth)
+  {
+    std::uint32_t bits;
+    std::memcpy(&bits, &d, sizeof(bits));
+    hash = (hash ^ bits) * 1099511628211ull;
+  }
+  return static_cast<double>(hash >> 11); // exact in a double
+}
+
+SightlineWindowCompositor::Blending BlendingFor(SightlineTracer::Pass pass)
+{
+  switch (pass)
+  {
+    case SightlineTracer::Pass::Translucent:
+      return SightlineWindowCompositor::Blending::Premultiplied; // writes no depth, as VTK's
+    case SightlineTracer::Pass::Volumetric:
+      return SightlineWindowCompositor::Blending::PremultipliedDepth;
+    default:
+      return SightlineWindowCompositor::Blending::Replace;
+  }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+bool SightlineWindowFrame::SetInteractiveSubsampling(int step)
+{
+  step = std::clamp(step, 1, 16);
+  const bool changed = step != this->InteractiveSubsampling;
+  this->InteractiveSubsampling = step;
+  return changed;
+}
+
+//------------------------------------------------------------------------------
+bool SightlineWindowFrame::SetInteractiveUpdateRate(double rate)
+{
+  const bool changed = rate != this->InteractiveUpdateRate;
+  this->InteractiveUpdateRate = rate;
+  return changed;
+}
+
+//------------------------------------------------------------------------------
+void SightlineWindowFrame::PrintSelf(std::ostream& os, vtkIndent indent) const
+{
+  os << indent << "InteractiveSubsampling: " << this->InteractiveSubsampling << "\n";
+  os << indent << "InteractiveUpdateRate: " << this->InteractiveUpdateRate << "\n";
+}
+
+//------------------------------------------------------------------------------
+void SightlineWindowFrame::Render(
+  vtkAbstractMapper3D* mapper, SightlineTracer& tracer, vtkRenderer* renderer, vtkProp3D* prop)
+{
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  renderer->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width <= 0 || height <= 0)
+  {
+    vtkWarningWithObjectMacro(mapper, << "The viewport has no pixels (" << width << "x" << height
+                                      << "); nothing to ray-trace.");
+    return;
+  }
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!window)
+  {
+    vtkErrorWithObjectMacro(
+      mapper, << mapper->GetClassName() << " needs an OpenGL render window.");
+    return;
+  }
+
+  mapper->InvokeEvent(vtkCommand::StartEvent, nullptr);
+  if (!tracer.UpdateScene())
+  {
+    mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
+    return;
+  }
+
+  // Trace fewer rays while the user drags; the still frame afterwards has every pixel.
+  const int step = window->GetDesiredUpdateRate() > this->InteractiveUpdateRate
+    ? this->InteractiveSubsampling
+    : 1;
+  const int traceWidth = (width + step - 1) / step;
+  const int traceHeight = (height + step - 1) / step;
+
+  // Translucent surfaces and volumes are drawn after the opaque geometry, whose depth is in
+  // the window's render framebuffer: rays stop there. VTK's translucent pass draws into
+  // framebuffers of its own (order-independent transparency, depth peeling), but the ray
+  // tracer sorts its layers itself, so it reads from and blends into the render framebuffer;
+  // other translucent geometry is then blended over it whatever its depth.
+  const SightlineTracer::Pass pass = tracer.GetPass(prop);
+  const bool behind = pass != SightlineTracer::Pass::Opaque;
+  std::unique_ptr<SightlineWindowCompositor::RenderFramebufferBinding> binding;
+  std::vector<float> depthLimit;
+  if (behind)
+  {
+    binding = std::make_unique<SightlineWindowCompositor::RenderFramebufferBinding>(window);
+    depthLimit = SightlineWindowCompositor::ReadDepth(
+      window, x0, y0, width, height, step, traceWidth, traceHeight);
+  }
+
+  // Everything the frame depends on; an unchanged key reuses the last image.
+  std::vector<double> key = ViewKey(renderer, prop->GetMatrix(), traceWidth, traceHeight);
+  // The prop's time covers its property (and a volume's transfer functions).
+  key.push_back(static_cast<double>(
+    std::max({ tracer.GetSceneTime(), mapper->GetMTime(), prop->GetMTime() })));
+  key.push_back(static_cast<double>(pass));
+  if (behind)
+  {
+    key.push_back(DepthKey(depthLimit)); // what is behind changes the image
+  }
+
+  bool changed = false;
+  if (key != this->Key)
+  {
+    this->Key.clear();
+    if (!tracer.RayTrace(prop, renderer->GetActiveCamera(), renderer->GetLights(), traceWidth,
+          traceHeight, this->Frame, behind ? &depthLimit : nullptr))
+    {
+      mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
+      return;
+    }
+    this->Rgba = this->Frame.toRGBA8(sightline::vec3(0.0f));
+    this->Key = std::move(key);
+    changed = true;
+  }
+
+  if (!this->Compositor.Draw(window, traceWidth, traceHeight, this->Rgba.data(),
+        this->Frame.Depth.data(), changed, BlendingFor(pass)))
+  {
+    vtkErrorWithObjectMacro(mapper, << "Could not compile the compositing shader.");
+  }
+  mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
+}
+
+//------------------------------------------------------------------------------
+void SightlineWindowFrame::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Compositor.ReleaseGraphicsResources(window);
+}

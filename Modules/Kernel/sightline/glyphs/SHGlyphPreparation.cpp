@@ -165,17 +165,43 @@ double SHGlyphPreparation::globalMaxAmplitude(const GlyphSource& source)
   return largest;
 }
 
-PreparedSHGlyphs SHGlyphPreparation::prepare(const GlyphSource& source, const GlyphRequest& request)
+std::vector<double> SHGlyphPreparation::begin(const GlyphSource& source,
+  const std::vector<std::size_t>& points, const dmat3& rotation, std::vector<char>& finite)
 {
   checkOrder(source.order);
-  checkPoints(source, request.points);
-  useCacheFor(source, request.rotation);
+  checkPoints(source, points);
+  useCacheFor(source, rotation);
+  std::vector<double> canonical;
+  readCanonical(source, points, canonical, finite);
+  return canonical;
+}
+
+void SHGlyphPreparation::append(PreparedSHGlyphs& glyphs, std::size_t point, float scale,
+  int order, double* canonical, const SHRotation* rotation)
+{
+  const int count = shCoefficientCount(order);
+  if (rotation)
+  {
+    std::vector<double> turned(count);
+    rotation->apply(canonical, turned.data());
+    std::copy(turned.begin(), turned.end(), canonical);
+  }
+  // Trailing zero bands are dropped: a lower degree intersects faster.
+  const int effective = shEffectiveOrder(order, canonical);
+  glyphs.points.push_back(point);
+  glyphs.scales.push_back(scale);
+  glyphs.orders.push_back(std::uint8_t(effective));
+  glyphs.offsets.push_back(glyphs.coefficients.size());
+  glyphs.coefficients.insert(
+    glyphs.coefficients.end(), canonical, canonical + shCoefficientCount(effective));
+}
+
+PreparedSHGlyphs SHGlyphPreparation::prepare(const GlyphSource& source, const GlyphRequest& request)
+{
+  std::vector<char> finite;
+  std::vector<double> canonical = begin(source, request.points, request.rotation, finite);
   const int order = source.order;
   const int count = shCoefficientCount(order);
-
-  std::vector<double> canonical;
-  std::vector<char> finite;
-  readCanonical(source, request.points, canonical, finite);
 
   // Largest amplitudes (rotation does not change them), cached per point.
   const bool needAmplitudes =
@@ -193,13 +219,14 @@ PreparedSHGlyphs SHGlyphPreparation::prepare(const GlyphSource& source, const Gl
     ? globalMaxAmplitude(source)
     : 0.0;
 
-  // Keep the finite, non-zero glyphs that normalise to a size; compact them in place.
+  // Keep the finite, non-zero glyphs that normalise to a size, in world axes.
+  const bool turned = request.rotation != dmat3(1.0);
+  const SHRotation rotation(turned ? order : 0, request.rotation);
   PreparedSHGlyphs glyphs;
-  std::size_t kept = 0;
   for (std::size_t g = 0; g < request.points.size(); ++g)
   {
     const std::size_t point = request.points[g];
-    const double* c = canonical.data() + g * count;
+    double* c = canonical.data() + g * count;
     if (!finite[g])
     {
       countNonFinite(glyphs.drops, point);
@@ -212,35 +239,9 @@ PreparedSHGlyphs SHGlyphPreparation::prepare(const GlyphSource& source, const Gl
       ++glyphs.drops.empty; // background voxels of a fit are all zero: normal, not an error
       continue;
     }
-    std::copy(c, c + count, canonical.begin() + kept * count);
-    ++kept;
-    glyphs.points.push_back(point);
-    glyphs.scales.push_back(float(request.worldScale / divisor));
+    append(glyphs, point, float(request.worldScale / divisor), order, c, turned ? &rotation : nullptr);
     if (request.maxAmplitudes)
       glyphs.maxAmplitudes.push_back(Cache.maxAmplitudes[point]);
-  }
-  canonical.resize(kept * count);
-
-  // Into world axes, then trailing zero bands dropped per glyph.
-  if (request.rotation != dmat3(1.0))
-  {
-    const SHRotation rotation(order, request.rotation);
-    tbb::parallel_for(std::size_t(0), kept, [&](std::size_t g)
-      {
-        std::vector<double> turned(count);
-        rotation.apply(canonical.data() + g * count, turned.data());
-        std::copy(turned.begin(), turned.end(), canonical.begin() + g * count);
-      });
-  }
-  glyphs.orders.resize(kept);
-  glyphs.offsets.resize(kept);
-  for (std::size_t g = 0; g < kept; ++g)
-  {
-    const double* c = canonical.data() + g * count;
-    const int effective = shEffectiveOrder(order, c);
-    glyphs.orders[g] = std::uint8_t(effective);
-    glyphs.offsets[g] = glyphs.coefficients.size();
-    glyphs.coefficients.insert(glyphs.coefficients.end(), c, c + shCoefficientCount(effective));
   }
   computeBoxes(glyphs, request);
   return glyphs;
@@ -273,44 +274,22 @@ void SHGlyphPreparation::computeBoxes(PreparedSHGlyphs& glyphs, const GlyphReque
 PreparedSHGlyphs SHGlyphPreparation::prepareAlongside(const GlyphSource& source,
   const PreparedSHGlyphs& reference, const GlyphRequest& request)
 {
-  checkOrder(source.order);
-  checkPoints(source, reference.points);
-  useCacheFor(source, request.rotation);
+  std::vector<char> finite;
+  std::vector<double> canonical = begin(source, reference.points, request.rotation, finite);
   const int order = source.order;
   const int count = shCoefficientCount(order);
-  std::vector<double> canonical;
-  std::vector<char> finite;
-  readCanonical(source, reference.points, canonical, finite);
-
-  PreparedSHGlyphs glyphs;
-  const SHRotation rotation(order, request.rotation);
   const bool turned = request.rotation != dmat3(1.0);
-  std::vector<double> turnedCoefficients(count);
+  const SHRotation rotation(turned ? order : 0, request.rotation);
+  PreparedSHGlyphs glyphs;
   for (std::size_t g = 0; g < reference.size(); ++g)
   {
-    const std::size_t point = reference.points[g];
     double* c = canonical.data() + g * count;
     if (!finite[g])
-    {
-      countNonFinite(glyphs.drops, point);
-      continue;
-    }
-    if (allZero(c, count))
-    {
+      countNonFinite(glyphs.drops, reference.points[g]);
+    else if (allZero(c, count))
       ++glyphs.drops.empty;
-      continue;
-    }
-    if (turned)
-    {
-      rotation.apply(c, turnedCoefficients.data());
-      std::copy(turnedCoefficients.begin(), turnedCoefficients.end(), c);
-    }
-    const int effective = shEffectiveOrder(order, c);
-    glyphs.points.push_back(point);
-    glyphs.scales.push_back(reference.scales[g]);
-    glyphs.orders.push_back(std::uint8_t(effective));
-    glyphs.offsets.push_back(glyphs.coefficients.size());
-    glyphs.coefficients.insert(glyphs.coefficients.end(), c, c + shCoefficientCount(effective));
+    else
+      append(glyphs, reference.points[g], reference.scales[g], order, c, turned ? &rotation : nullptr);
   }
   computeBoxes(glyphs, request);
   return glyphs;

@@ -17,6 +17,8 @@
 
 namespace sightline
 {
+class SHRotation;
+
 /// How each glyph is divided before the world scale.
 enum class GlyphNormalization
 {
@@ -131,7 +133,13 @@ private:
   };
 
   void useCacheFor(const GlyphSource& source, const dmat3& rotation);
-  /// Reads points [begin, end) of `which`, converted to canonical; false for non-finite ones.
+  /// Checks the request, selects the cache and reads `points` as canonical coefficients.
+  std::vector<double> begin(const GlyphSource& source, const std::vector<std::size_t>& points,
+    const dmat3& rotation, std::vector<char>& finite);
+  /// Turns one glyph (when `rotation` is given), trims its zero bands and appends it.
+  static void append(PreparedSHGlyphs& glyphs, std::size_t point, float scale, int order,
+    double* canonical, const SHRotation* rotation);
+  /// Reads the points `which`, converted to canonical; `finite` false for non-finite ones.
   void readCanonical(const GlyphSource& source, const std::vector<std::size_t>& which,
     std::vector<double>& canonical, std::vector<char>& finite) const;
   void computeBoxes(PreparedSHGlyphs& glyphs, const GlyphRequest& request);

@@ -68,6 +68,11 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
     conversion.apply(input, canonical.data());
     for (double& c : canonical)
       c *= scale;
+    if (std::all_of(canonical.begin(), canonical.end(), [](double c) { return c == 0.0; }))
+    {
+      addReason(Report, ZeroCount, i, "has only zero coefficients (nothing to draw)");
+      continue;
+    }
     const int glyphOrder = options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order;
     addGlyph(centers[i], glyphOrder, canonical.data(), scale,
       halfExtents.empty() ? vec3(-1.0f) : halfExtents[i], i, colors);
@@ -135,11 +140,6 @@ void SHGlyphSet::addGlyph(const vec3& center, int order, const double* scaled, f
   if (!isFinite(center))
   {
     addReason(Report, NonFiniteCount, index, "has a non-finite centre, coefficient or scale");
-    return;
-  }
-  if (std::all_of(scaled, scaled + count, [](double c) { return c == 0.0; }))
-  {
-    addReason(Report, ZeroCount, index, "has only zero coefficients (nothing to draw)");
     return;
   }
   Glyph glyph;

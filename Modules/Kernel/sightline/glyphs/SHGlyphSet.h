@@ -111,7 +111,8 @@ public:
   /// Glyphs that SHGlyphPreparation made ready (canonical, turned, trimmed, boxed): nothing
   /// is converted again; `centers` has one world centre per prepared glyph and `colors` is
   /// empty or one RGBA8 colour per glyph. options.convention and options.trimZeroBands do not
-  /// apply. Glyphs with non-finite centres are dropped and reported.
+  /// apply, and the coefficients are not checked again (the preparation dropped invalid and
+  /// zero glyphs); only glyphs with non-finite centres are dropped and reported.
   SHGlyphSet(const std::vector<vec3>& centers, const PreparedSHGlyphs& glyphs,
     const SHGlyphOptions& options = {}, const std::vector<std::uint32_t>& colors = {});
 
@@ -164,8 +165,9 @@ private:
   };
 
   void checkOptions(int order, std::size_t glyphs, const std::vector<std::uint32_t>& colors) const;
-  /// Appends one glyph: canonical coefficients of `order`, already scaled; `halfExtents`
-  /// negative or NaN when its box is still to be computed.
+  /// Appends one glyph unless its centre is not finite: canonical coefficients of `order`,
+  /// already scaled and not all zero; `halfExtents` negative or NaN when its box is still to
+  /// be computed.
   void addGlyph(const vec3& center, int order, const double* scaled, float scale,
     const vec3& halfExtents, std::size_t index, const std::vector<std::uint32_t>& colors);
   /// Boxes (computed where missing) and the set's bounds, after the last addGlyph.

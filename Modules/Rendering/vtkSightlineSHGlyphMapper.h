@@ -51,39 +51,24 @@
  * array, a component count that is no SH order, an empty input or slice, NaN/Inf coefficients
  * (those glyphs are skipped with a warning naming the first point; the rest render).
  *
- * @sa vtkSightlineMapper vtkSightlineImageRenderer vtkNIFTIImageReader
+ * Slicing, matrices, mask, normalisation, scale, colouring, intersection and the box cache are
+ * vtkSightlineGlyphMapper's, shared with vtkSightlineTensorGlyphMapper.
+ *
+ * @sa vtkSightlineGlyphMapper vtkSightlineTensorGlyphMapper vtkSightlineImageRenderer
+ * vtkNIFTIImageReader
  */
 #ifndef vtkSightlineSHGlyphMapper_h
 #define vtkSightlineSHGlyphMapper_h
 
 #include "SightlineRenderingModule.h" // for export macro
-#include "vtkSightlineMapper.h"
+#include "vtkSightlineGlyphMapper.h"
 
-#ifndef __VTK_WRAP__
-#include <glm/vec3.hpp> // for sightline::vec3
-#include <cstdint>      // for std::uint32_t
-#include <string>       // for std::string
-#include <vector>       // for std::vector
-namespace sightline
-{
-using vec3 = glm::vec3;
-struct SHGlyphOptions;
-}
-#endif
-
-class vtkMatrix4x4;
-
-class SIGHTLINERENDERING_EXPORT vtkSightlineSHGlyphMapper : public vtkSightlineMapper
+class SIGHTLINERENDERING_EXPORT vtkSightlineSHGlyphMapper : public vtkSightlineGlyphMapper
 {
 public:
   static vtkSightlineSHGlyphMapper* New();
-  vtkTypeMacro(vtkSightlineSHGlyphMapper, vtkSightlineMapper);
+  vtkTypeMacro(vtkSightlineSHGlyphMapper, vtkSightlineGlyphMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  /**
-   * Includes the modification times of DataToWorldMatrix and DirectionToWorldMatrix.
-   */
-  vtkMTimeType GetMTime() override;
 
   ///@{
   /**
@@ -123,177 +108,6 @@ public:
 
   ///@{
   /**
-   * Highest band to draw (even); higher bands of the input are ignored. Negative (default)
-   * draws every band the array has.
-   */
-  vtkSetMacro(MaximumOrder, int);
-  vtkGetMacro(MaximumOrder, int);
-  ///@}
-
-  enum Normalizations
-  {
-    NORMALIZE_NONE = 0,          ///< radius = scale * |F|
-    NORMALIZE_MAX_AMPLITUDE,     ///< each glyph's longest lobe has radius = scale
-    NORMALIZE_COEFFICIENT_NORM,  ///< each glyph divided by its coefficient vector's norm
-    NORMALIZE_GLOBAL             ///< all glyphs divided by the largest amplitude of the input
-  };
-
-  ///@{
-  /**
-   * How glyphs are normalised before ScaleFactor. Default NORMALIZE_MAX_AMPLITUDE.
-   */
-  vtkSetClampMacro(Normalization, int, NORMALIZE_NONE, NORMALIZE_GLOBAL);
-  vtkGetMacro(Normalization, int);
-  void SetNormalizationToNone() { this->SetNormalization(NORMALIZE_NONE); }
-  void SetNormalizationToMaxAmplitude() { this->SetNormalization(NORMALIZE_MAX_AMPLITUDE); }
-  void SetNormalizationToCoefficientNorm() { this->SetNormalization(NORMALIZE_COEFFICIENT_NORM); }
-  void SetNormalizationToGlobal() { this->SetNormalization(NORMALIZE_GLOBAL); }
-  const char* GetNormalizationAsString();
-  ///@}
-
-  ///@{
-  /**
-   * Glyph size (see the class documentation): for images in units of half the smallest voxel
-   * spacing, otherwise in world units. Default 1.
-   */
-  vtkSetMacro(ScaleFactor, double);
-  vtkGetMacro(ScaleFactor, double);
-  ///@}
-
-  enum SliceOrientations
-  {
-    SLICE_AXIAL = 0, ///< the voxel axis closest to world z (inferior-superior)
-    SLICE_CORONAL,   ///< the voxel axis closest to world y (posterior-anterior)
-    SLICE_SAGITTAL,  ///< the voxel axis closest to world x (left-right)
-    SLICE_EXTENT     ///< every voxel of DisplayExtent
-  };
-
-  ///@{
-  /**
-   * Which glyphs of an image are drawn: one slice across the voxel axis that DataToWorldMatrix
-   * maps closest to the world's z, y or x axis, or an extent. Default SLICE_AXIAL.
-   */
-  vtkSetClampMacro(SliceOrientation, int, SLICE_AXIAL, SLICE_EXTENT);
-  vtkGetMacro(SliceOrientation, int);
-  void SetSliceOrientationToAxial() { this->SetSliceOrientation(SLICE_AXIAL); }
-  void SetSliceOrientationToCoronal() { this->SetSliceOrientation(SLICE_CORONAL); }
-  void SetSliceOrientationToSagittal() { this->SetSliceOrientation(SLICE_SAGITTAL); }
-  void SetSliceOrientationToExtent() { this->SetSliceOrientation(SLICE_EXTENT); }
-  const char* GetSliceOrientationAsString();
-  ///@}
-
-  ///@{
-  /**
-   * Index of the slice along the slice axis, in the image's structured extent; negative
-   * (default) picks the middle slice. Out-of-range numbers are clamped, with a warning.
-   */
-  vtkSetMacro(SliceNumber, int);
-  vtkGetMacro(SliceNumber, int);
-  ///@}
-
-  ///@{
-  /**
-   * Voxel extent drawn with SLICE_EXTENT, clamped to the image (like odf_slicer's
-   * display_extent). Default: everything.
-   */
-  vtkSetVector6Macro(DisplayExtent, int);
-  vtkGetVector6Macro(DisplayExtent, int);
-  ///@}
-
-  /**
-   * The image axis (0, 1 or 2) that the current orientation slices across, for the current
-   * input and DataToWorldMatrix; -1 for SLICE_EXTENT or non-image input.
-   */
-  int GetSliceAxis();
-
-  /**
-   * The voxel extent the last build drew (the slice or the clamped display extent).
-   */
-  vtkGetVector6Macro(DrawnExtent, int);
-
-  ///@{
-  /**
-   * Matrix from the input's point coordinates to world coordinates, applied to the glyph
-   * centres only (see the class documentation). Null (default) is the identity.
-   */
-  void SetDataToWorldMatrix(vtkMatrix4x4* matrix);
-  vtkGetObjectMacro(DataToWorldMatrix, vtkMatrix4x4);
-  ///@}
-
-  ///@{
-  /**
-   * Map from the axes of the SH directions to world axes (only its 3x3 part counts, and only
-   * its rotation: scaling and shear are removed). Null (default): directions are in world axes.
-   */
-  void SetDirectionToWorldMatrix(vtkMatrix4x4* matrix);
-  vtkGetObjectMacro(DirectionToWorldMatrix, vtkMatrix4x4);
-  ///@}
-
-  ///@{
-  /**
-   * Point-data array that masks glyphs: a glyph is drawn where its first component is not 0.
-   * Null (default): no mask.
-   */
-  vtkSetStringMacro(MaskArrayName);
-  vtkGetStringMacro(MaskArrayName);
-  ///@}
-
-  enum Colorings
-  {
-    COLOR_BY_DIRECTION = 0, ///< |p / |p|| as RGB
-    COLOR_BY_SCALARS,       ///< vtkMapper scalar colouring through the lookup table
-    COLOR_SOLID,            ///< the actor's vtkProperty colour
-    COLOR_BY_RADIUS         ///< the lookup table at |p|, the glyph radius at each surface point
-  };
-
-  ///@{
-  /**
-   * How glyphs are coloured. Default COLOR_BY_DIRECTION.
-   */
-  vtkSetClampMacro(Coloring, int, COLOR_BY_DIRECTION, COLOR_BY_RADIUS);
-  vtkGetMacro(Coloring, int);
-  void SetColoringToDirection() { this->SetColoring(COLOR_BY_DIRECTION); }
-  void SetColoringToScalars() { this->SetColoring(COLOR_BY_SCALARS); }
-  void SetColoringToSolid() { this->SetColoring(COLOR_SOLID); }
-  void SetColoringToRadius() { this->SetColoring(COLOR_BY_RADIUS); }
-  const char* GetColoringAsString();
-
-  /**
-   * COLOR_BY_RADIUS (the tensor-glyph paper's colour coding by scalar value): each surface
-   * point gets the lookup table's colour of its glyph radius |F(w)| in input units (e.g. GPa
-   * for a stiffness tensor), before normalisation and scaling. The table's colours are spread
-   * over RadiusRange; when it is empty (lo >= hi, the default [0, -1]) over [0, largest radius
-   * of the drawn glyphs]. Without a lookup table set, black-red-yellow as in the paper.
-   */
-  vtkSetVector2Macro(RadiusRange, double);
-  vtkGetVector2Macro(RadiusRange, double);
-  /** The range the last render used for COLOR_BY_RADIUS. */
-  vtkGetVector2Macro(LastRadiusRange, double);
-  ///@}
-
-  enum NegativeLobeModes
-  {
-    NEGATIVE_LOBES_SHOW = 0, ///< drawn like positive lobes (|F| is the radius)
-    NEGATIVE_LOBES_COLOR,    ///< drawn in NegativeLobeColor
-    NEGATIVE_LOBES_HIDE      ///< not drawn
-  };
-
-  ///@{
-  /**
-   * Negative lobes (where F < 0, e.g. from noise in a CSD fit). Default NEGATIVE_LOBES_SHOW.
-   */
-  vtkSetClampMacro(NegativeLobes, int, NEGATIVE_LOBES_SHOW, NEGATIVE_LOBES_HIDE);
-  vtkGetMacro(NegativeLobes, int);
-  void SetNegativeLobesToShow() { this->SetNegativeLobes(NEGATIVE_LOBES_SHOW); }
-  void SetNegativeLobesToColor() { this->SetNegativeLobes(NEGATIVE_LOBES_COLOR); }
-  void SetNegativeLobesToHide() { this->SetNegativeLobes(NEGATIVE_LOBES_HIDE); }
-  const char* GetNegativeLobesAsString();
-  vtkSetVector3Macro(NegativeLobeColor, double);
-  vtkGetVector3Macro(NegativeLobeColor, double);
-  ///@}
-
-  ///@{
-  /**
    * Optional point-data array of uncertainty glyphs (SH coefficients in the same basis, any
    * order), drawn as a homogeneous volume. Null (default): none.
    */
@@ -320,74 +134,33 @@ public:
   ///@}
 
   /**
-   * Boxes the last build computed (the others came from the per-voxel cache).
+   * The superclass's bytes plus the uncertainty glyphs and their cache.
    */
-  vtkGetMacro(LastComputedBoxes, vtkIdType);
-
-  /**
-   * Bytes held by the glyph geometry and the per-voxel caches (not the input).
-   */
-  virtual vtkIdType GetMemoryBytes();
+  vtkIdType GetMemoryBytes() override;
 
 protected:
   vtkSightlineSHGlyphMapper();
   ~vtkSightlineSHGlyphMapper() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
 #ifndef __VTK_WRAP__
-  std::shared_ptr<sightline::Geometry> BuildGeometry() override;
+  std::shared_ptr<sightline::Geometry> BuildGlyphs(
+    vtkDataSet* input, const sightline::GlyphRequest& request) override;
   void ConfigureRender(sightline::RenderOptions& options) override;
-
-  /**
-   * The point array whose tuples are the glyph functions, its SH order and whether it holds
-   * canonical (orthonormal) SH coefficients instead of Basis. Reports the problem and returns
-   * null when there is none. Subclasses that convert other inputs (tensors) override it.
-   */
-  virtual vtkDataArray* SelectCoefficients(
-    vtkDataSet* input, int& order, bool& canonical, std::string& label);
-
-  /**
-   * Creates the glyph geometry from what BuildGeometry gathered: centres in world
-   * coordinates, `values` (shCoefficientCount(order) per glyph in options.convention), scales,
-   * colours and cached boxes (see sightline::SHGlyphSet). Subclasses may draw other shapes
-   * from the same glyphs.
-   */
-  virtual std::shared_ptr<sightline::Geometry> CreateGlyphGeometry(
-    const std::vector<sightline::vec3>& centers, const std::vector<float>& values, int order,
-    sightline::SHGlyphOptions& options, const std::vector<float>& scales,
-    const std::vector<std::uint32_t>& colors, const std::vector<sightline::vec3>& halfExtents);
 #endif
 
   char* CoefficientArrayName = nullptr;
   int Basis = DESCOTEAUX07;
   bool LegacyBasis = true;
-  int MaximumOrder = -1;
-  int Normalization = NORMALIZE_MAX_AMPLITUDE;
-  double ScaleFactor = 1.0;
-  int SliceOrientation = SLICE_AXIAL;
-  int SliceNumber = -1;
-  int DisplayExtent[6] = { VTK_INT_MIN, VTK_INT_MAX, VTK_INT_MIN, VTK_INT_MAX, VTK_INT_MIN,
-    VTK_INT_MAX };
-  int DrawnExtent[6] = { 0, -1, 0, -1, 0, -1 };
-  vtkMatrix4x4* DataToWorldMatrix = nullptr;
-  vtkMatrix4x4* DirectionToWorldMatrix = nullptr;
-  char* MaskArrayName = nullptr;
-  int Coloring = COLOR_BY_DIRECTION;
-  int NegativeLobes = NEGATIVE_LOBES_SHOW;
-  double NegativeLobeColor[3] = { 0.9, 0.1, 0.1 };
-  double RadiusRange[2] = { 0.0, -1.0 };
-  double LastRadiusRange[2] = { 0.0, -1.0 };
   char* UncertaintyArrayName = nullptr;
   double UncertaintyExtinction = 2.0;
   double UncertaintyColor[3] = { 0.5, 0.5, 0.5 };
-  vtkIdType LastComputedBoxes = 0;
 
 private:
   vtkSightlineSHGlyphMapper(const vtkSightlineSHGlyphMapper&) = delete;
   void operator=(const vtkSightlineSHGlyphMapper&) = delete;
 
-  class vtkGlyphInternals;
-  std::unique_ptr<vtkGlyphInternals> GlyphInternals;
+  class vtkSHInternals;
+  std::unique_ptr<vtkSHInternals> SHInternals;
 };
 
 #endif

@@ -6,10 +6,10 @@
  * radius in direction w is |T(w)| = |T_{i1..in} w_i1 ... w_in| (Hlawitschka et al., "higher-order
  * tensor glyphs"; for n = 2 the Reynolds glyph x^T D x, for a stiffness tensor the
  * longitudinal modulus). Even-order tensors and even SH bands up to n span the same functions,
- * so each tensor is converted by an exact linear map to SH coefficients and drawn by the SH
- * glyph machinery of the superclass: same root-finding intersection, boxes, shading, shadows,
- * slicing, normalisation, colouring and caching (every vtkSightlineSHGlyphMapper setting except
- * the basis applies).
+ * so each tensor is converted by an exact linear map to canonical SH coefficients and drawn by
+ * the same glyph machinery as vtkSightlineSHGlyphMapper, its sibling: root-finding
+ * intersection, boxes, shading, shadows, and vtkSightlineGlyphMapper's slicing,
+ * normalisation, colouring and caching. There is no basis and no uncertainty volume.
  *
  * Tensor layouts (TensorLayout; AUTOMATIC picks by the number of components):
  * - SYMMETRIC_UNIQUE: the (n+1)(n+2)/2 unique components, one per monomial x^a y^b z^c,
@@ -28,37 +28,35 @@
  *
  * Second-order tensors can also be drawn as vtkTensorGlyph's ellipsoids (Shape ELLIPSOID): the
  * unit sphere mapped by the eigenvectors scaled by |eigenvalues| (at least 1/1000 of the
- * largest), intersected exactly; normalisation makes the longest semi-axis ScaleFactor.
+ * largest), intersected exactly; normalisation makes the longest semi-axis ScaleFactor. They
+ * are built from the eigen-decomposition directly, without SH coefficients or SH boxes.
  *
- * Intersection (IntersectionMethod): EXACT (default; polynomial root finding, Peters et al.
- * 2023) or, as options and baselines, the tensor-glyph paper's own methods: MARCHING (fixed
- * steps of MarchingStepSize bounding radii inside the bounding sphere, sign test, bisection
- * steps, final linear interpolation, a third of the step near the centre), INTERVAL and
- * AFFINE (guaranteed rejection and bisection with interval or reduced affine arithmetic down to
- * SubdivisionTolerance bounding radii). The baselines trace the ray from outside the bounding
- * sphere only: they show the glyph from outside, shadows included.
+ * Intersection (IntersectionMethod, see vtkSightlineGlyphMapper): EXACT (default) or the
+ * tensor-glyph paper's own methods as baselines; ellipsoids are always intersected exactly.
  *
- * @sa vtkSightlineSHGlyphMapper vtkTensorGlyph
+ * @sa vtkSightlineGlyphMapper vtkSightlineSHGlyphMapper vtkTensorGlyph
  */
 #ifndef vtkSightlineTensorGlyphMapper_h
 #define vtkSightlineTensorGlyphMapper_h
 
 #include "SightlineRenderingModule.h" // for export macro
-#include "vtkSightlineSHGlyphMapper.h"
+#include "vtkSightlineGlyphMapper.h"
 
-class SIGHTLINERENDERING_EXPORT vtkSightlineTensorGlyphMapper : public vtkSightlineSHGlyphMapper
+class SIGHTLINERENDERING_EXPORT vtkSightlineTensorGlyphMapper : public vtkSightlineGlyphMapper
 {
 public:
   static vtkSightlineTensorGlyphMapper* New();
-  vtkTypeMacro(vtkSightlineTensorGlyphMapper, vtkSightlineSHGlyphMapper);
+  vtkTypeMacro(vtkSightlineTensorGlyphMapper, vtkSightlineGlyphMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
+  ///@{
   /**
    * Point-data array of tensors, or null (default) for the active point tensors, or, when
    * there are none, the active point scalars (what vtkNIFTIImageReader produces).
    */
   vtkSetStringMacro(TensorArrayName);
   vtkGetStringMacro(TensorArrayName);
+  ///@}
 
   enum TensorLayouts
   {
@@ -69,6 +67,7 @@ public:
     LAYOUT_VOIGT
   };
 
+  ///@{
   /**
    * How the tensor array's components are laid out (see the class documentation). Default
    * LAYOUT_AUTOMATIC.
@@ -81,6 +80,7 @@ public:
   void SetTensorLayoutToVTKSymmetric() { this->SetTensorLayout(LAYOUT_VTK_SYMMETRIC); }
   void SetTensorLayoutToVoigt() { this->SetTensorLayout(LAYOUT_VOIGT); }
   const char* GetTensorLayoutAsString();
+  ///@}
 
   /**
    * The order the last build read (-1 before the first).
@@ -93,6 +93,7 @@ public:
     SHAPE_ELLIPSOID            ///< vtkTensorGlyph's ellipsoid, order 2 only
   };
 
+  ///@{
   /**
    * Glyph shape. Default SHAPE_TENSOR_FUNCTION.
    */
@@ -101,86 +102,25 @@ public:
   void SetShapeToTensorFunction() { this->SetShape(SHAPE_TENSOR_FUNCTION); }
   void SetShapeToEllipsoid() { this->SetShape(SHAPE_ELLIPSOID); }
   const char* GetShapeAsString();
-
-  enum IntersectionMethods
-  {
-    INTERSECT_EXACT = 0,
-    INTERSECT_MARCHING,
-    INTERSECT_INTERVAL,
-    INTERSECT_AFFINE
-  };
-
-  /**
-   * How rays meet the glyph surface (see the class documentation). Default INTERSECT_EXACT.
-   */
-  vtkSetClampMacro(IntersectionMethod, int, INTERSECT_EXACT, INTERSECT_AFFINE);
-  vtkGetMacro(IntersectionMethod, int);
-  void SetIntersectionMethodToExact() { this->SetIntersectionMethod(INTERSECT_EXACT); }
-  void SetIntersectionMethodToMarching() { this->SetIntersectionMethod(INTERSECT_MARCHING); }
-  void SetIntersectionMethodToInterval() { this->SetIntersectionMethod(INTERSECT_INTERVAL); }
-  void SetIntersectionMethodToAffine() { this->SetIntersectionMethod(INTERSECT_AFFINE); }
-  const char* GetIntersectionMethodAsString();
-
-  /**
-   * MARCHING: step in units of the glyph's bounding radius (default 0.2, the paper's
-   * recommendation), bisection steps (default 0), final linear interpolation (default on) and
-   * a third of the step within a quarter of the radius from the centre (default on).
-   */
-  vtkSetClampMacro(MarchingStepSize, double, 1e-4, 2.0);
-  vtkGetMacro(MarchingStepSize, double);
-  vtkSetClampMacro(MarchingBisectionSteps, int, 0, 60);
-  vtkGetMacro(MarchingBisectionSteps, int);
-  vtkSetMacro(MarchingLinearInterpolation, bool);
-  vtkGetMacro(MarchingLinearInterpolation, bool);
-  vtkBooleanMacro(MarchingLinearInterpolation, bool);
-  vtkSetMacro(MarchingCentreRefinement, bool);
-  vtkGetMacro(MarchingCentreRefinement, bool);
-  vtkBooleanMacro(MarchingCentreRefinement, bool);
-
-  /**
-   * INTERVAL and AFFINE: length, in bounding radii, below which an unrejected segment is the
-   * hit. Default 1e-4.
-   */
-  vtkSetClampMacro(SubdivisionTolerance, double, 1e-12, 0.5);
-  vtkGetMacro(SubdivisionTolerance, double);
-
-  /**
-   * The superclass's bytes plus the tensors converted to SH coefficients (one copy of the
-   * tensor array, kept while it does not change).
-   */
-  vtkIdType GetMemoryBytes() override;
+  ///@}
 
 protected:
   vtkSightlineTensorGlyphMapper();
   ~vtkSightlineTensorGlyphMapper() override;
 
 #ifndef __VTK_WRAP__
-  vtkDataArray* SelectCoefficients(
-    vtkDataSet* input, int& order, bool& canonical, std::string& label) override;
-  std::shared_ptr<sightline::Geometry> CreateGlyphGeometry(
-    const std::vector<sightline::vec3>& centers, const std::vector<float>& values, int order,
-    sightline::SHGlyphOptions& options, const std::vector<float>& scales,
-    const std::vector<std::uint32_t>& colors,
-    const std::vector<sightline::vec3>& halfExtents) override;
+  std::shared_ptr<sightline::Geometry> BuildGlyphs(
+    vtkDataSet* input, const sightline::GlyphRequest& request) override;
 #endif
 
   char* TensorArrayName = nullptr;
   int TensorLayout = LAYOUT_AUTOMATIC;
   int TensorOrder = -1;
   int Shape = SHAPE_TENSOR_FUNCTION;
-  int IntersectionMethod = INTERSECT_EXACT;
-  double MarchingStepSize = 0.2;
-  int MarchingBisectionSteps = 0;
-  bool MarchingLinearInterpolation = true;
-  bool MarchingCentreRefinement = true;
-  double SubdivisionTolerance = 1e-4;
 
 private:
   vtkSightlineTensorGlyphMapper(const vtkSightlineTensorGlyphMapper&) = delete;
   void operator=(const vtkSightlineTensorGlyphMapper&) = delete;
-
-  class vtkTensorInternals;
-  std::unique_ptr<vtkTensorInternals> TensorInternals;
 };
 
 #endif

@@ -99,6 +99,21 @@ class TensorGlyphs(unittest.TestCase):
         self.assertAlmostEqual(mapper.GetLastRadiusRange()[1], (C11 + 2 * C12 + 4 * C44) / 3, places=2)
         self.assertIn("TensorOrder: 4", str(mapper))
 
+    def test_tensor_and_sh_mappers_are_siblings(self):
+        # Both share vtkSightlineGlyphMapper; the tensor mapper has no SH-only settings.
+        tensor = sightline.vtkSightlineTensorGlyphMapper()
+        sh = sightline.vtkSightlineSHGlyphMapper()
+        for mapper in (tensor, sh):
+            self.assertTrue(mapper.IsA("vtkSightlineGlyphMapper"))
+        self.assertFalse(tensor.IsA("vtkSightlineSHGlyphMapper"))
+        for name in ("SetBasis", "SetLegacyBasis", "SetCoefficientArrayName",
+                     "SetUncertaintyArrayName"):
+            self.assertFalse(hasattr(tensor, name), name)
+            self.assertTrue(hasattr(sh, name), name)
+        for name in ("SetSliceOrientationToAxial", "SetMaskArrayName", "SetIntersectionMethodToMarching",
+                     "GetLastComputedBoxes", "GetMemoryBytes"):
+            self.assertTrue(hasattr(tensor, name) and hasattr(sh, name), name)
+
     def test_bad_component_count_is_reported(self):
         errors = []
         def configure(mapper):

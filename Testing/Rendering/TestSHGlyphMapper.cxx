@@ -727,3 +727,70 @@ TEST(SHGlyphMapper, MRtrixFileGivesTheSameGlyphsAsTheNIfTI)
   EXPECT_LE(MaxRGBDifference(CaptureRGB(fromMIF.window), expected), 1);
   EXPECT_GT(CoveredPixels(expected), 5000);
 }
+
+// Every point array must describe every point: a coefficient or uncertainty array with fewer
+// tuples than points is an error naming it, its tuple count and the point count, and nothing
+// is drawn (it used to be read past its end, or to crash with 0 tuples). A short mask is an
+// error too, and the glyphs are drawn without it.
+TEST(SHGlyphMapper, ArraysShorterThanThePointsAreErrorsNotCrashes)
+{
+  auto array = [](const char* name, vtkIdType tuples)
+  {
+    auto values = vtkSmartPointer<vtkFloatArray>::New();
+    values->SetName(name);
+    values->SetNumberOfComponents(6);
+    values->SetNumberOfTuples(tuples);
+    values->Fill(0.0f);
+    for (vtkIdType i = 0; i < tuples; ++i)
+      values->SetComponent(i, 0, 1.0f);
+    return values;
+  };
+  auto image = [&](vtkIdType coefficientTuples)
+  {
+    auto grid = vtkSmartPointer<vtkImageData>::New();
+    grid->SetDimensions(3, 3, 1);
+    grid->GetPointData()->AddArray(array("SH", coefficientTuples));
+    return grid;
+  };
+  vtkNew<MessageCollector> messages;
+  auto build = [&](vtkDataObject* input, const char* uncertainty, const char* mask)
+  {
+    vtkNew<vtkSightlineSHGlyphMapper> mapper;
+    messages->Errors.clear();
+    messages->Warnings.clear();
+    messages->Observe(mapper);
+    mapper->SetInputDataObject(input);
+    mapper->SetCoefficientArrayName("SH");
+    mapper->SetUncertaintyArrayName(uncertainty);
+    mapper->SetMaskArrayName(mask);
+    mapper->GetBounds();
+    return mapper->GetNumberOfPrimitives();
+  };
+
+  for (vtkIdType tuples : { 0, 4 })
+  {
+    const std::string count = std::to_string(tuples) + " tuples for 9 points";
+    EXPECT_EQ(build(image(tuples), nullptr, nullptr), 0);
+    EXPECT_TRUE(messages->Contains("coefficient array 'SH' has " + count)) << tuples;
+
+    auto withUncertainty = image(9);
+    withUncertainty->GetPointData()->AddArray(array("U", tuples));
+    EXPECT_EQ(build(withUncertainty, "U", nullptr), 0);
+    EXPECT_TRUE(messages->Contains("uncertainty array 'U' has " + count)) << tuples;
+
+    auto withMask = image(9);
+    withMask->GetPointData()->AddArray(array("M", tuples));
+    EXPECT_EQ(build(withMask, nullptr, "M"), 9) << "a short mask is ignored, not read";
+    EXPECT_TRUE(messages->Contains("mask array 'M' has " + count)) << tuples;
+  }
+
+  // Any data set, not only images: three points, two coefficient tuples.
+  vtkNew<vtkPolyData> glyphs;
+  vtkNew<vtkPoints> points;
+  for (int i = 0; i < 3; ++i)
+    points->InsertNextPoint(3.0 * i, 0, 0);
+  glyphs->SetPoints(points);
+  glyphs->GetPointData()->AddArray(array("SH", 2));
+  EXPECT_EQ(build(glyphs, nullptr, nullptr), 0);
+  EXPECT_TRUE(messages->Contains("'SH' has 2 tuples for 3 points"));
+}

@@ -492,3 +492,36 @@ TEST(TensorGlyphMapper, BadInputIsReportedByName)
   auto withNaN = render(SinglePoint(nan), nullptr);
   EXPECT_TRUE(contains(withNaN.second, "NaN")) << "no warning about the NaN tensor";
 }
+
+// A tensor array with fewer tuples than points is an error naming it, its tuple count and the
+// point count, for both shapes, and nothing is drawn (it used to be read past its end, or to
+// crash with 0 tuples).
+TEST(TensorGlyphMapper, TensorArraysShorterThanThePointsAreErrorsNotCrashes)
+{
+  for (int shape : { vtkSightlineTensorGlyphMapper::SHAPE_TENSOR_FUNCTION,
+         vtkSightlineTensorGlyphMapper::SHAPE_ELLIPSOID })
+  {
+    for (vtkIdType tuples : { 0, 4 })
+    {
+      vtkNew<vtkImageData> grid;
+      grid->SetDimensions(3, 3, 1);
+      vtkNew<vtkDoubleArray> tensors;
+      tensors->SetName("T");
+      tensors->SetNumberOfComponents(6);
+      tensors->SetNumberOfTuples(tuples);
+      tensors->Fill(1.0);
+      grid->GetPointData()->AddArray(tensors);
+      vtkNew<vtkSightlineTensorGlyphMapper> mapper;
+      vtkNew<MessageCollector> messages;
+      messages->Observe(mapper);
+      mapper->SetInputDataObject(grid);
+      mapper->SetTensorArrayName("T");
+      mapper->SetShape(shape);
+      mapper->GetBounds();
+      EXPECT_EQ(mapper->GetNumberOfPrimitives(), 0);
+      EXPECT_TRUE(messages->Contains(
+        "tensor array 'T' has " + std::to_string(tuples) + " tuples for 9 points"))
+        << "shape " << shape << ", " << tuples << " tuples";
+    }
+  }
+}

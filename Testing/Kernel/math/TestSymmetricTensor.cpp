@@ -192,3 +192,44 @@ TEST(SymmetricTensor, StiffnessFromVoigtGivesTheLongitudinalModulus)
   EXPECT_NEAR(sightline::evaluateSymmetricTensor(4, unique.data(), s, s, s),
     (c11 + 2 * c12 + 4 * c44) / 3, 1e-10);
 }
+
+TEST(SymmetricTensor, LayoutsGiveTheSameUniqueComponents)
+{
+  EXPECT_EQ(sightline::guessTensorLayout(6), sightline::TensorLayout::VTKSymmetric);
+  EXPECT_EQ(sightline::guessTensorLayout(36), sightline::TensorLayout::Voigt);
+  EXPECT_EQ(sightline::guessTensorLayout(81), sightline::TensorLayout::Full);
+  EXPECT_EQ(sightline::guessTensorLayout(15), sightline::TensorLayout::SymmetricUnique);
+  EXPECT_EQ(sightline::tensorOrderInLayout(sightline::TensorLayout::SymmetricUnique, 91), 12);
+  EXPECT_EQ(sightline::tensorOrderInLayout(sightline::TensorLayout::Full, 729), 6);
+  EXPECT_EQ(sightline::tensorOrderInLayout(sightline::TensorLayout::VTKSymmetric, 15), -1);
+  EXPECT_EQ(sightline::tensorOrderInLayout(sightline::TensorLayout::Voigt, 36), 4);
+
+  const double unique[6] = { 1.0, 0.2, 0.3, 2.0, 0.4, 3.0 }; // xx, xy, xz, yy, yz, zz
+  const double vtk[6] = { 1.0, 2.0, 3.0, 0.2, 0.4, 0.3 };     // XX, YY, ZZ, XY, YZ, XZ
+  const double full[9] = { 1.0, 0.2, 0.3, 0.2, 2.0, 0.4, 0.3, 0.4, 3.0 };
+  double fromVTK[6], fromFull[6];
+  sightline::uniqueTensorComponents(sightline::TensorLayout::VTKSymmetric, 2, vtk, fromVTK);
+  sightline::uniqueTensorComponents(sightline::TensorLayout::Full, 2, full, fromFull);
+  for (int i = 0; i < 6; ++i)
+  {
+    EXPECT_DOUBLE_EQ(fromVTK[i], unique[i]);
+    EXPECT_NEAR(fromFull[i], unique[i], 1e-15);
+  }
+}
+
+TEST(SymmetricTensor, EigenDecompositionReconstructsTheMatrix)
+{
+  const double unique[6] = { 4.0, -1.0, 0.5, 3.0, 0.25, -2.0 };
+  double values[3];
+  sightline::dmat3 vectors;
+  sightline::symmetricEigenDecomposition(unique, values, vectors);
+  const sightline::dmat3 a(glm::dvec3(unique[0], unique[1], unique[2]),
+    glm::dvec3(unique[1], unique[3], unique[4]), glm::dvec3(unique[2], unique[4], unique[5]));
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_NEAR(glm::length(vectors[i]), 1.0, 1e-12);
+    const glm::dvec3 residual = a * vectors[i] - values[i] * vectors[i];
+    EXPECT_LT(glm::length(residual), 1e-12);
+  }
+  EXPECT_NEAR(values[0] + values[1] + values[2], 5.0, 1e-12); // the trace
+}

@@ -47,12 +47,71 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
   if (!scales.empty() && scales.size() != n)
     throw std::invalid_argument("SH glyph scale array has " + std::to_string(scales.size()) +
       " values for " + std::to_string(n) + " glyphs");
-  if (!colors.empty() && colors.size() != n)
-    throw std::invalid_argument("SH glyph colour array has " + std::to_string(colors.size()) +
-      " values for " + std::to_string(n) + " glyphs");
   if (!halfExtents.empty() && halfExtents.size() != n)
     throw std::invalid_argument("SH glyph box array has " + std::to_string(halfExtents.size()) +
       " half-extents for " + std::to_string(n) + " glyphs");
+  checkOptions(order, n, colors);
+
+  const SHConversion conversion = SHConversion::toCanonical(options.convention, order);
+  std::vector<double> canonical(stride);
+  Glyphs.reserve(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const float* input = coefficients.data() + i * stride;
+    const float scale = scales.empty() ? 1.0f : scales[i];
+    if (!std::all_of(input, input + stride, [](float v) { return std::isfinite(v); }) ||
+      !std::isfinite(scale))
+    {
+      addReason(Report, NonFiniteCount, i, "has a non-finite centre, coefficient or scale");
+      continue;
+    }
+    conversion.apply(input, canonical.data());
+    for (double& c : canonical)
+      c *= scale;
+    if (std::all_of(canonical.begin(), canonical.end(), [](double c) { return c == 0.0; }))
+    {
+      addReason(Report, ZeroCount, i, "has only zero coefficients (nothing to draw)");
+      continue;
+    }
+    const int glyphOrder = options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order;
+    addGlyph(centers[i], glyphOrder, canonical.data(), scale,
+      halfExtents.empty() ? vec3(-1.0f) : halfExtents[i], i, colors);
+  }
+  finish();
+}
+
+SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const PreparedSHGlyphs& glyphs,
+  const SHGlyphOptions& options, const std::vector<std::uint32_t>& colors)
+  : Options(options)
+{
+  const std::size_t n = glyphs.size();
+  if (centers.size() != n)
+    throw std::invalid_argument("SH glyph centre array has " + std::to_string(centers.size()) +
+      " centres for " + std::to_string(n) + " prepared glyphs");
+  int order = 0;
+  for (std::uint8_t glyphOrder : glyphs.orders)
+    order = std::max(order, int(glyphOrder));
+  checkOptions(order, n, colors);
+  Glyphs.reserve(n);
+  std::vector<double> scaled;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double* c = glyphs.coefficients.data() + glyphs.offsets[i];
+    scaled.assign(c, c + shCoefficientCount(glyphs.orders[i]));
+    for (double& value : scaled)
+      value *= glyphs.scales[i];
+    addGlyph(centers[i], glyphs.orders[i], scaled.data(), glyphs.scales[i], glyphs.halfExtents[i],
+      i, colors);
+  }
+  finish();
+}
+
+void SHGlyphSet::checkOptions(int order, std::size_t n, const std::vector<std::uint32_t>& colors) const
+{
+  const SHGlyphOptions& options = Options;
+  if (!colors.empty() && colors.size() != n)
+    throw std::invalid_argument("SH glyph colour array has " + std::to_string(colors.size()) +
+      " values for " + std::to_string(n) + " glyphs");
   if (options.method == SHIntersectionMethod::RayMarching &&
     (options.marchingSteps < 1 || options.bisectionSteps < 0))
     throw std::invalid_argument("ray marching needs at least one step");
@@ -72,53 +131,34 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
   if (options.coloring == SHColoring::Radius &&
     (options.colormap.empty() || !(options.radiusRange.y > options.radiusRange.x)))
     throw std::invalid_argument("radius colouring needs a colormap and a radius range lo < hi");
+}
 
-  const SHConversion conversion = SHConversion::toCanonical(options.convention, order);
-  std::vector<double> canonical(stride);
-  std::size_t nonFinite = 0, allZero = 0;
-  Glyphs.reserve(n);
-  for (std::size_t i = 0; i < n; ++i)
+void SHGlyphSet::addGlyph(const vec3& center, int order, const double* scaled, float scale,
+  const vec3& halfExtents, std::size_t index, const std::vector<std::uint32_t>& colors)
+{
+  const int count = shCoefficientCount(order);
+  if (!isFinite(center))
   {
-    const float* input = coefficients.data() + i * stride;
-    const float scale = scales.empty() ? 1.0f : scales[i];
-    bool finite = isFinite(centers[i]) && std::isfinite(scale);
-    for (std::size_t j = 0; j < stride && finite; ++j)
-      finite = std::isfinite(input[j]);
-    if (!finite)
-    {
-      addReason(Report, nonFinite, i, "has a non-finite centre, coefficient or scale");
-      continue;
-    }
-    conversion.apply(input, canonical.data());
-    bool zero = true;
-    for (double& c : canonical)
-    {
-      c *= scale;
-      zero = zero && c == 0.0;
-    }
-    if (zero)
-    {
-      addReason(Report, allZero, i, "has only zero coefficients (nothing to draw)");
-      continue;
-    }
-    Glyph glyph;
-    glyph.center = dvec3(centers[i]);
-    glyph.order = std::uint8_t(options.trimZeroBands ? shEffectiveOrder(order, canonical.data()) : order);
-    glyph.offset = std::uint32_t(DoubleCoefficients.size());
-    glyph.useFloat = options.precision == SHPrecision::Float;
-    glyph.scale = scale;
-    // A cached box is only trusted when it is a box: NaN marks "not computed yet".
-    if (!halfExtents.empty() && isFinite(halfExtents[i]) && halfExtents[i].x >= 0.0f)
-      glyph.halfExtents = halfExtents[i];
-    else
-      glyph.halfExtents = vec3(-1.0f);
-    const int count = shCoefficientCount(glyph.order);
-    DoubleCoefficients.insert(DoubleCoefficients.end(), canonical.begin(), canonical.begin() + count);
-    Glyphs.push_back(glyph);
-    SourceIndex.push_back(std::uint32_t(i));
-    if (!colors.empty())
-      Colors.push_back(colors[i]);
+    addReason(Report, NonFiniteCount, index, "has a non-finite centre, coefficient or scale");
+    return;
   }
+  Glyph glyph;
+  glyph.center = dvec3(center);
+  glyph.order = std::uint8_t(order);
+  glyph.offset = std::uint32_t(DoubleCoefficients.size());
+  glyph.useFloat = Options.precision == SHPrecision::Float;
+  glyph.scale = scale;
+  // A cached box is only trusted when it is a box: NaN marks "not computed yet".
+  glyph.halfExtents = isFinite(halfExtents) && halfExtents.x >= 0.0f ? halfExtents : vec3(-1.0f);
+  DoubleCoefficients.insert(DoubleCoefficients.end(), scaled, scaled + count);
+  Glyphs.push_back(glyph);
+  SourceIndex.push_back(std::uint32_t(index));
+  if (!colors.empty())
+    Colors.push_back(colors[index]);
+}
+
+void SHGlyphSet::finish()
+{
   FloatCoefficients.assign(DoubleCoefficients.begin(), DoubleCoefficients.end());
   if (Options.coloring == SHColoring::PerGlyph && Colors.empty())
     Options.coloring = SHColoring::Material;
@@ -126,6 +166,8 @@ SHGlyphSet::SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float
   // Boxes: the near-exact ones (Section 4.2) unless a baseline asks for its bounding sphere.
   // The tensor methods march inside the sphere of the longest lobe (padded by 0.1 %: the lobe
   // search is a refined sampling) in the seed's unit-ball frame.
+  const bool tensorMethod = Options.method == SHIntersectionMethod::TensorMarching ||
+    Options.method == SHIntersectionMethod::IntervalSubdivision;
   const bool tight = Options.method == SHIntersectionMethod::RootFinding || Options.marchingUsesTightBoxes;
   if (tensorMethod)
     Cartesian.resize(Glyphs.size());

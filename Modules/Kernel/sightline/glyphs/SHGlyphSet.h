@@ -7,6 +7,7 @@
 
 #include "sightline/core/Geometry.h"
 #include "sightline/glyphs/SHGlyph.h"
+#include "sightline/glyphs/SHGlyphPreparation.h"
 #include "sightline/glyphs/TensorGlyph.h"
 
 #include <cstdint>
@@ -107,6 +108,14 @@ public:
     const SHGlyphOptions& options = {}, const std::vector<float>& scales = {},
     const std::vector<std::uint32_t>& colors = {}, const std::vector<vec3>& halfExtents = {});
 
+  /// Glyphs that SHGlyphPreparation made ready (canonical, turned, trimmed, boxed): nothing
+  /// is converted again; `centers` has one world centre per prepared glyph and `colors` is
+  /// empty or one RGBA8 colour per glyph. options.convention and options.trimZeroBands do not
+  /// apply, and the coefficients are not checked again (the preparation dropped invalid and
+  /// zero glyphs); only glyphs with non-finite centres are dropped and reported.
+  SHGlyphSet(const std::vector<vec3>& centers, const PreparedSHGlyphs& glyphs,
+    const SHGlyphOptions& options = {}, const std::vector<std::uint32_t>& colors = {});
+
   std::size_t size() const override { return Glyphs.size(); }
   bool hasPrimitiveColors() const override
   {
@@ -155,6 +164,15 @@ private:
     float maxRadius = 0.0f;      ///< longest lobe, padded: the tensor methods' bounding sphere
   };
 
+  void checkOptions(int order, std::size_t glyphs, const std::vector<std::uint32_t>& colors) const;
+  /// Appends one glyph unless its centre is not finite: canonical coefficients of `order`,
+  /// already scaled and not all zero; `halfExtents` negative or NaN when its box is still to
+  /// be computed.
+  void addGlyph(const vec3& center, int order, const double* scaled, float scale,
+    const vec3& halfExtents, std::size_t index, const std::vector<std::uint32_t>& colors);
+  /// Boxes (computed where missing) and the set's bounds, after the last addGlyph.
+  void finish();
+
   int exactIntersections(const Glyph& glyph, const Ray& ray, double* t, bool firstOnly) const;
   int marchingIntersection(const Glyph& glyph, const Ray& ray, double& t) const;
   int tensorMethodIntersection(unsigned primitive, const Ray& ray, double& t) const;
@@ -168,6 +186,7 @@ private:
   std::vector<std::uint32_t> SourceIndex;
   Box3 AllBounds;
   ValidationReport Report;
+  std::size_t NonFiniteCount = 0, ZeroCount = 0; ///< per reason, for the report's first line
   double BoundsSeconds = 0.0;
 };
 } // namespace sightline

@@ -219,3 +219,134 @@ void TensorToSH::inverse(const double* sh, double* tensor) const
   }
 }
 } // namespace sightline
+
+namespace sightline
+{
+namespace
+{
+/// 3^n: the entries of a full tensor of order n.
+long long fullTensorEntryCount(int order)
+{
+  long long count = 1;
+  for (int i = 0; i < order; ++i)
+    count *= 3;
+  return count;
+}
+} // namespace
+
+TensorLayout guessTensorLayout(int components)
+{
+  if (components == 6)
+    return TensorLayout::VTKSymmetric;
+  if (components == 36)
+    return TensorLayout::Voigt;
+  if (tensorOrderInLayout(TensorLayout::Full, components) > 0)
+    return TensorLayout::Full;
+  return TensorLayout::SymmetricUnique;
+}
+
+int tensorOrderInLayout(TensorLayout layout, int components)
+{
+  switch (layout)
+  {
+    case TensorLayout::SymmetricUnique:
+      for (int n = 0; n <= kMaxTensorOrder; n += 2)
+        if (symmetricTensorComponentCount(n) == components)
+          return n;
+      return -1;
+    case TensorLayout::Full:
+      // Order 8 would be 6561 entries per point: not a layout anyone stores.
+      for (int n = 2; n <= 6; n += 2)
+        if (fullTensorEntryCount(n) == components)
+          return n;
+      return -1;
+    case TensorLayout::VTKSymmetric:
+      return components == 6 ? 2 : -1;
+    case TensorLayout::Voigt:
+      return components == 36 ? 4 : -1;
+  }
+  return -1;
+}
+
+void uniqueTensorComponents(TensorLayout layout, int order, const double* values, double* unique)
+{
+  switch (layout)
+  {
+    case TensorLayout::SymmetricUnique:
+      std::copy(values, values + symmetricTensorComponentCount(order), unique);
+      return;
+    case TensorLayout::Full:
+    {
+      const std::vector<double> part = symmetricPartFromFull(order, values);
+      std::copy(part.begin(), part.end(), unique);
+      return;
+    }
+    case TensorLayout::VTKSymmetric: // XX, YY, ZZ, XY, YZ, XZ to xx, xy, xz, yy, yz, zz
+    {
+      const double xx = values[0], yy = values[1], zz = values[2];
+      const double xy = values[3], yz = values[4], xz = values[5];
+      unique[0] = xx;
+      unique[1] = xy;
+      unique[2] = xz;
+      unique[3] = yy;
+      unique[4] = yz;
+      unique[5] = zz;
+      return;
+    }
+    case TensorLayout::Voigt:
+    {
+      const std::vector<double> full = stiffnessFromVoigt(values);
+      const std::vector<double> part = symmetricPartFromFull(4, full.data());
+      std::copy(part.begin(), part.end(), unique);
+      return;
+    }
+  }
+}
+
+void symmetricEigenDecomposition(const double unique[6], double values[3], dmat3& vectors)
+{
+  double a[3][3] = { { unique[0], unique[1], unique[2] }, { unique[1], unique[3], unique[4] },
+    { unique[2], unique[4], unique[5] } };
+  double v[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  for (int sweep = 0; sweep < 50; ++sweep)
+  {
+    const double offDiagonal = std::abs(a[0][1]) + std::abs(a[0][2]) + std::abs(a[1][2]);
+    const double diagonal = std::abs(a[0][0]) + std::abs(a[1][1]) + std::abs(a[2][2]);
+    if (offDiagonal <= 1e-300 || offDiagonal <= 1e-16 * diagonal)
+      break;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q)
+      {
+        if (a[p][q] == 0.0)
+          continue;
+        // The rotation in the (p, q) plane that zeroes a[p][q] (Golub & Van Loan, Alg. 8.4.1).
+        const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+        const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < 3; ++k)
+        {
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k)
+        {
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k)
+        {
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    values[i] = a[i][i];
+    vectors[i] = dvec3(v[0][i], v[1][i], v[2][i]); // GLM: vectors[i] is column i
+  }
+}
+} // namespace sightline

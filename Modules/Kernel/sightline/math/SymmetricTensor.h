@@ -48,6 +48,36 @@ std::vector<double> symmetricPartFromFull(int order, const double* full);
 /// (row-major, pairs ordered 11, 22, 33, 23, 13, 12), the way elastic constants are published.
 std::vector<double> stiffnessFromVoigt(const double* voigt);
 
+/// How the components of a tensor are stored in an array.
+enum class TensorLayout
+{
+  /// symmetricTensorComponentCount(n) unique components in the order above (n = 2: FSL's).
+  SymmetricUnique,
+  /// All 3^n entries, index i1 + 3 i2 + 9 i3 + ...; drawn as the totally symmetric part.
+  Full,
+  /// VTK's six symmetric components XX, YY, ZZ, XY, YZ, XZ (vtkTensorGlyph's order).
+  VTKSymmetric,
+  /// A 6x6 Voigt stiffness matrix, row-major, pairs 11, 22, 33, 23, 13, 12 (order 4).
+  Voigt,
+};
+
+/// The layout a component count most likely means: 6 VTK's symmetric tensor, 36 Voigt, 9, 81
+/// and 729 full tensors, anything else unique components.
+TensorLayout guessTensorLayout(int components);
+
+/// The even order a tensor of `components` values in `layout` has, or -1 when the count
+/// fits no order the glyphs draw (unique: orders 0..kMaxTensorOrder; full: 2, 4, 6).
+int tensorOrderInLayout(TensorLayout layout, int components);
+
+/// Unique components (symmetricTensorComponentCount(order) values) of a tensor of that order
+/// given in `layout`; `values` holds the layout's components.
+void uniqueTensorComponents(TensorLayout layout, int order, const double* values, double* unique);
+
+/// Eigen-decomposition of the symmetric 3x3 matrix with unique components xx, xy, xz, yy,
+/// yz, zz (cyclic Jacobi rotations): `values[i]` belongs to the unit eigenvector in column i
+/// of `vectors`, in no particular order.
+void symmetricEigenDecomposition(const double unique[6], double values[3], dmat3& vectors);
+
 /// The exact linear map between the unique components of an even-order tensor and the
 /// canonical SH coefficients of the same function on the sphere (bands 0..n), both ways.
 class TensorToSH

@@ -46,7 +46,7 @@ void printUsage(std::ostream& out)
        "  --plot-script PATH      plot_benchmarks.py to run (default: installed next to this "
        "program)\n"
        "\n"
-       "The OpenGL methods need a display: run under xvfb-run -a -s \"-screen 0 1920x1080x24\".\n";
+       "The OpenGL methods need a display: run under xvfb-run -a -s \"-noreset -screen 0 1920x1080x24\".\n";
 }
 
 long long parseCount(const std::string& text)

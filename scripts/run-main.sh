@@ -14,30 +14,30 @@ export PYTHONPATH="$build/lib/python3/dist-packages" LD_LIBRARY_PATH="$build/lib
 # Debian's VTK is built for X only: the windows render under a virtual X server.
 # 1. Exact SH glyphs (fibre ODFs) of DIPY's small_64D, fitted with CSD, over its FA slice, with
 #    soft shadows: output/sh_glyphs_axial_4.png.
-xvfb-run -a -s "-screen 0 1920x1080x24" \
+xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_sh_glyphs.py --output "$root/output" --size 1600 1000
 # 2. DIPY's tractography bundles as exact spheres, in a window and without OpenGL.
-xvfb-run -a -s "-screen 0 1920x1080x24" \
+xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tractography.py --output "$root/output" "$@"
 # 3. Higher-order tensor glyphs: copper's 4th-order stiffness tensor in 16 random crystal
 #    orientations, coloured by the longitudinal modulus (output/tensor_glyphs_copper_polycrystal_
 #    exact.png), and DIPY's small_64D fitted as 4th-order generalised-DTI tensors
 #    (output/tensor_glyphs_small_64D_gdti4_exact.png).
 /usr/bin/python3 scripts/make_tensor_data.py "$root/output/tensor_data"
-xvfb-run -a -s "-screen 0 1920x1080x24" \
+xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tensor_glyphs.py --output "$root/output" --size 1600 1200
-xvfb-run -a -s "-screen 0 1920x1080x24" \
+xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tensor_glyphs.py --output "$root/output" --size 1200 1200 \
   --tensor "$root/output/tensor_data/small_64D_gdti4.nii.gz" --layout unique
 # 4. DIPY's bundles as exact generalized tubes (Sightline's TrackVis reader), opaque and with
 #    two bundles translucent around an opaque one, in a window and without OpenGL
 #    (output/tubes_opaque_window.png, output/tubes_translucent_window.png, ..._gl_free.png).
-xvfb-run -a -s "-screen 0 1920x1080x24" \
+xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_tubes.py --output "$root/output" --size 1600 1000
 # 5. A layered Earth (PREM density with a degree-2 mantle perturbation) ray-cast natively on its
 #    spherical grid, a quarter cut away, around an opaque inner core and under OpenGL graticule
 #    lines (output/earth_window.png, output/earth_gl_free.png).
-xvfb-run -a -s "-screen 0 1920x1080x24" \
+xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   /usr/bin/python3 Examples/Python/render_earth.py --output "$root/output" --size 1200 1000
 # 6. A user's own file in one command: DIPY's shipped SH file (it has only an sform) through the
 #    installed-style viewer, without a window (output/sightline_view_func_coef.png).

@@ -247,31 +247,6 @@ int vtkSightlineGlyphMapper::GetSliceAxis()
   return best;
 }
 
-//------------------------------------------------------------------------------
-bool vtkSightlineGlyphMapper::CheckPointArray(vtkDataArray* array, const std::string& label,
-  vtkIdType points, int components, const char* consequence)
-{
-  if (!array)
-  {
-    vtkErrorMacro(<< "The " << label << " is not in the input's point data; " << consequence
-                  << ".");
-    return false;
-  }
-  if (array->GetNumberOfTuples() != points)
-  {
-    vtkErrorMacro(<< "The " << label << " has " << array->GetNumberOfTuples() << " tuples for "
-                  << points << " points (one per point is needed); " << consequence << ".");
-    return false;
-  }
-  if (array->GetNumberOfComponents() < components)
-  {
-    vtkErrorMacro(<< "The " << label << " has " << array->GetNumberOfComponents()
-                  << " components where " << components << " are read; " << consequence
-                  << ".");
-    return false;
-  }
-  return true;
-}
 
 //------------------------------------------------------------------------------
 bool vtkSightlineGlyphMapper::SelectPoints(vtkDataSet* input, std::vector<std::size_t>& ids)

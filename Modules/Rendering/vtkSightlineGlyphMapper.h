@@ -322,15 +322,6 @@ protected:
     vtkDataSet* input, const sightline::GlyphRequest& request) = 0;
 
   /**
-   * The one place where point arrays are checked against the points they describe: false
-   * (after an error naming `label`, its tuple count and the point count, ending with
-   * `consequence`) when the array has not exactly one tuple per point or fewer than
-   * `components` components.
-   */
-  bool CheckPointArray(vtkDataArray* array, const std::string& label, vtkIdType points,
-    int components, const char* consequence);
-
-  /**
    * The SH order to draw of functions of order `order`: at most MaximumOrder (warning once
    * per build when it is odd).
    */

@@ -23,6 +23,7 @@
 #include "sightline/core/Framebuffer.h"
 
 #include <algorithm>
+#include <exception>
 #include <cstring>
 #include <vector>
 
@@ -220,6 +221,12 @@ int vtkSightlineImageRenderer::RequestInformation(
   return 1;
 }
 
+namespace
+{
+// The most memory an image may take (see RequestData): 8 GiB.
+constexpr vtkTypeInt64 MaximumImageBytes = vtkTypeInt64(8) << 30;
+}
+
 //------------------------------------------------------------------------------
 int vtkSightlineImageRenderer::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
@@ -230,6 +237,20 @@ int vtkSightlineImageRenderer::RequestData(
   if (width <= 0 || height <= 0)
   {
     vtkErrorMacro(<< "The image size must be positive, got " << width << "x" << height << ".");
+    return 0;
+  }
+  // Memory per pixel: the image and one prop's layer (24 bytes each: RGBA and depth as floats),
+  // the 8-bit colours twice (conversion and output array) and the output depth. Refused
+  // before anything is allocated, so a typo in the size is an error, not an abort.
+  constexpr double kBytesPerPixel = 2 * 24 + 2 * 4 + 4;
+  const double bytes = double(width) * double(height) * kBytesPerPixel;
+  if (bytes > double(MaximumImageBytes))
+  {
+    vtkErrorMacro(<< "An image of " << width << "x" << height << " pixels needs "
+                  << bytes / double(1 << 30) << " GiB, beyond the renderer's budget of "
+                  << MaximumImageBytes / (1 << 30) << " GiB (about "
+                  << vtkIdType(double(MaximumImageBytes) / kBytesPerPixel) / 1000000
+                  << " million pixels).");
     return 0;
   }
   if (!this->ActiveCamera)
@@ -278,50 +299,58 @@ int vtkSightlineImageRenderer::RequestData(
   std::stable_sort(props.begin(), props.end(),
     [](const TracedProp& a, const TracedProp& b) { return a.Pass < b.Pass; });
 
-  sightline::Framebuffer image(width, height);
-  sightline::Framebuffer layer;
-  int done = 0;
-  for (const TracedProp& traced : props)
+  try
   {
-    this->UpdateProgress(double(done++) / props.size());
-    const bool opaque = traced.Pass == SightlineTracer::Pass::Opaque;
-    if (!traced.Tracer->RayTrace(traced.Prop, this->ActiveCamera, this->Lights, width, height,
-          layer, opaque ? nullptr : &image.Depth))
+    sightline::Framebuffer image(width, height);
+    sightline::Framebuffer layer;
+    int done = 0;
+    for (const TracedProp& traced : props)
     {
-      continue;
+      this->UpdateProgress(double(done++) / props.size());
+      const bool opaque = traced.Pass == SightlineTracer::Pass::Opaque;
+      if (!traced.Tracer->RayTrace(traced.Prop, this->ActiveCamera, this->Lights, width, height,
+            layer, opaque ? nullptr : &image.Depth))
+      {
+        continue;
+      }
+      if (opaque)
+      {
+        image.compositeNearest(layer);
+      }
+      else
+      {
+        // Volumes keep the depth of their first visible sample, as in a window.
+        image.blendUnder(layer, traced.Pass == SightlineTracer::Pass::Volumetric);
+      }
     }
-    if (opaque)
-    {
-      image.compositeNearest(layer);
-    }
-    else
-    {
-      // Volumes keep the depth of their first visible sample, as in a window.
-      image.blendUnder(layer, traced.Pass == SightlineTracer::Pass::Volumetric);
-    }
-  }
-  this->UpdateProgress(1.0);
+    this->UpdateProgress(1.0);
 
-  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
-  output->SetSpacing(1, 1, 1);
-  output->SetOrigin(0, 0, 0);
-  const sightline::vec3 background(this->Background[0], this->Background[1], this->Background[2]);
-  std::vector<std::uint8_t> rgba = image.toRGBA8(background);
-  for (std::size_t i = 3; i < rgba.size(); i += 4)
-  {
-    rgba[i] = 255; // composited over the background, the image is opaque like a window's
+    output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
+    output->SetSpacing(1, 1, 1);
+    output->SetOrigin(0, 0, 0);
+    const sightline::vec3 background(this->Background[0], this->Background[1], this->Background[2]);
+    std::vector<std::uint8_t> rgba = image.toRGBA8(background);
+    for (std::size_t i = 3; i < rgba.size(); i += 4)
+    {
+      rgba[i] = 255; // composited over the background, the image is opaque like a window's
+    }
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName("Colors");
+    colors->SetNumberOfComponents(4);
+    colors->SetNumberOfTuples(image.pixelCount());
+    std::memcpy(colors->GetPointer(0), rgba.data(), rgba.size());
+    vtkNew<vtkFloatArray> depth;
+    depth->SetName("Depth");
+    depth->SetNumberOfTuples(image.pixelCount());
+    std::copy(image.Depth.begin(), image.Depth.end(), depth->GetPointer(0));
+    output->GetPointData()->SetScalars(colors);
+    output->GetPointData()->AddArray(depth);
   }
-  vtkNew<vtkUnsignedCharArray> colors;
-  colors->SetName("Colors");
-  colors->SetNumberOfComponents(4);
-  colors->SetNumberOfTuples(image.pixelCount());
-  std::memcpy(colors->GetPointer(0), rgba.data(), rgba.size());
-  vtkNew<vtkFloatArray> depth;
-  depth->SetName("Depth");
-  depth->SetNumberOfTuples(image.pixelCount());
-  std::copy(image.Depth.begin(), image.Depth.end(), depth->GetPointer(0));
-  output->GetPointData()->SetScalars(colors);
-  output->GetPointData()->AddArray(depth);
+  catch (const std::exception& e) // e.g. std::bad_alloc on a machine with less free memory
+  {
+    vtkErrorMacro(<< "Could not render a " << width << "x" << height << " image: " << e.what());
+    return 0;
+  }
   return 1;
 }
 

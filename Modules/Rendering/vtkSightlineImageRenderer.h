@@ -85,7 +85,9 @@ public:
 
   ///@{
   /**
-   * Image size in pixels. Default 300 x 300, as vtkRenderWindow.
+   * Image size in pixels. Default 300 x 300, as vtkRenderWindow. A size whose buffers would
+   * take more than 8 GiB (60 bytes a pixel: about 143 million pixels, e.g. 11900 x 11900) is
+   * refused with an error before anything is allocated.
    */
   vtkSetVector2Macro(Size, int);
   vtkGetVector2Macro(Size, int);

@@ -5,6 +5,7 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
@@ -286,4 +287,31 @@ void vtkSightlineMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LastGeometrySeconds: " << this->LastGeometrySeconds << "\n";
   os << indent << "LastBuildSeconds: " << this->LastBuildSeconds << "\n";
   os << indent << "LastFrameSeconds: " << this->LastFrameSeconds << "\n";
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineMapper::CheckPointArray(vtkDataArray* array, const std::string& label,
+  vtkIdType points, int components, const char* consequence, bool exactComponents)
+{
+  if (!array)
+  {
+    vtkErrorMacro(<< "The " << label << " is not in the input's point data; " << consequence
+                  << ".");
+    return false;
+  }
+  if (array->GetNumberOfTuples() != points)
+  {
+    vtkErrorMacro(<< "The " << label << " has " << array->GetNumberOfTuples() << " tuples for "
+                  << points << " points (one per point is needed); " << consequence << ".");
+    return false;
+  }
+  if (array->GetNumberOfComponents() < components ||
+    (exactComponents && array->GetNumberOfComponents() != components))
+  {
+    vtkErrorMacro(<< "The " << label << " has " << array->GetNumberOfComponents()
+                  << " components where " << components << (exactComponents ? " is" : " are")
+                  << " read; " << consequence << ".");
+    return false;
+  }
+  return true;
 }

@@ -52,6 +52,7 @@
 
 #ifndef __VTK_WRAP__
 #include <memory> // for std::shared_ptr
+#include <string> // for std::string
 #include <vector> // for std::vector
 namespace sightline
 {
@@ -202,6 +203,16 @@ protected:
    * transform and progress are already set.
    */
   virtual void ConfigureRender(sightline::RenderOptions& vtkNotUsed(options)) {}
+
+  /**
+   * The one place where every Sightline mapper checks a point array against the points it
+   * describes: false (after an error naming `label`, its tuple count and the point count,
+   * ending with `consequence`) when the array is missing, has not exactly one tuple per point,
+   * or has fewer than `components` components (other than exactly `components` when
+   * `exactComponents`).
+   */
+  bool CheckPointArray(vtkDataArray* array, const std::string& label, vtkIdType points,
+    int components, const char* consequence, bool exactComponents = false);
 #endif
 
   int FillInputPortInformation(int port, vtkInformation* info) override;

@@ -139,6 +139,15 @@ void SectionBounds(const sightline::CylindricalGrid& grid, double bounds[6])
   bounds[5] = grid.height.back();
 }
 
+// Values the renderer can use: finite and small enough that means of eight corners,
+// differences for gradients and the span of the point-data table stay finite. Others are
+// drawn empty, with a warning.
+constexpr double kLargestUsableValue = 1e300;
+bool IsUsableValue(double v)
+{
+  return std::abs(v) <= kLargestUsableValue;
+}
+
 // The property's colour and extinction at a value: opacity a per unit distance u is the
 // extinction -ln(1 - a) / u.
 sightline::TransferSample SampleTransfer(vtkVolumeProperty* property, double v)
@@ -301,7 +310,11 @@ bool vtkSightlineSphericalVolumeMapper::UpdateScene()
         for (int i = 0; i <= n0; ++i)
         {
           const int jInput = latitude ? n1 - j : j;
-          const double v = scalars->GetComponent(i + vtkIdType(n0 + 1) * (jInput + vtkIdType(n1 + 1) * k), 0);
+          double v = scalars->GetComponent(i + vtkIdType(n0 + 1) * (jInput + vtkIdType(n1 + 1) * k), 0);
+          if (!IsUsableValue(v))
+          {
+            v = std::numeric_limits<double>::quiet_NaN();
+          }
           in.PointValues[std::size_t(i) + std::size_t(n0 + 1) * (std::size_t(j) + std::size_t(n1 + 1) * k)] = v;
           if (!std::isnan(v))
           {
@@ -311,6 +324,7 @@ bool vtkSightlineSphericalVolumeMapper::UpdateScene()
         }
   }
   vtkIdType nanCount = 0;
+  double firstUnusable = 0.0;
   for (int k = 0; k < n2; ++k)
   {
     for (int j = 0; j < n1; ++j)
@@ -334,9 +348,14 @@ bool vtkSightlineSphericalVolumeMapper::UpdateScene()
           }
           value *= 0.125;
         }
-        if (std::isnan(value))
+        if (!IsUsableValue(value))
         {
+          if (nanCount == 0)
+          {
+            firstUnusable = value;
+          }
           ++nanCount;
+          value = std::numeric_limits<double>::quiet_NaN();
         }
         in.Values[std::size_t(i) + std::size_t(n0) * (std::size_t(j) + std::size_t(n1) * k)] = value;
       }
@@ -344,7 +363,9 @@ bool vtkSightlineSphericalVolumeMapper::UpdateScene()
   }
   if (nanCount > 0)
   {
-    vtkWarningMacro(<< nanCount << " cells have NaN values; they are drawn empty.");
+    vtkWarningMacro(<< nanCount << " cells have NaN, infinite or out-of-range values (|v| > "
+                    << kLargestUsableValue << ", e.g. " << firstUnusable
+                    << "); they are drawn empty.");
   }
   if (cylindrical)
   {

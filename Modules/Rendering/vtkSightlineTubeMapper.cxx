@@ -65,13 +65,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     const bool named = this->RadiusArrayName && *this->RadiusArrayName;
     vtkDataArray* array =
       named ? input->GetPointData()->GetArray(this->RadiusArrayName) : input->GetPointData()->GetScalars();
-    if (!array || array->GetNumberOfComponents() != 1 || array->GetNumberOfTuples() != count)
+    const std::string label = "radius array " +
+      (named ? "'" + std::string(this->RadiusArrayName) + "'" : std::string("(active scalars)"));
+    if (!this->CheckPointArray(array, label, count, 1, "no tubes rendered", true))
     {
-      vtkErrorMacro(<< "The radius array "
-                    << (named ? "'" + std::string(this->RadiusArrayName) + "'" : std::string("(active scalars)"))
-                    << (!array ? " is not in the input's point data"
-                               : " needs one component and one value per point")
-                    << "; no tubes rendered.");
       return nullptr;
     }
     double range[2];
@@ -116,18 +113,24 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   if (this->PredecessorArrayName && *this->PredecessorArrayName)
   {
     vtkDataArray* array = input->GetPointData()->GetArray(this->PredecessorArrayName);
-    if (!array || array->GetNumberOfComponents() != 1 || array->GetNumberOfTuples() != count)
+    const std::string label = "predecessor array '" + std::string(this->PredecessorArrayName) + "'";
+    if (!this->CheckPointArray(array, label, count, 1, "no tubes rendered", true))
     {
-      vtkErrorMacro(<< "The predecessor array '" << this->PredecessorArrayName << "' "
-                    << (!array ? "is not in the input's point data"
-                               : "needs one component and one value per point")
-                    << "; no tubes rendered.");
       return nullptr;
     }
+    // A predecessor is a point index or -1: anything else (NaN, a fraction, a value no index
+    // can have) is named as it is, not as whatever an integer conversion makes of it.
     for (vtkIdType i = 0; i < count; ++i)
     {
       const double v = array->GetComponent(i, 0);
-      add(i, std::isfinite(v) ? static_cast<std::int64_t>(v) : std::int64_t(count));
+      if (!(v >= -1.0 && v < double(count)) || v != std::floor(v))
+      {
+        vtkErrorMacro(<< "The " << label << " gives point " << i << " the predecessor " << v
+                      << ", which is not -1 (none) or a point index in [0, " << count - 1
+                      << "]; no tubes rendered.");
+        return nullptr;
+      }
+      add(i, static_cast<std::int64_t>(v));
     }
   }
   else
@@ -140,14 +143,40 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
                        "PredecessorArrayName to a point array of predecessor indices.");
       return nullptr;
     }
+    // A polyline naming a point the input does not have is left out whole, with a warning:
+    // its links would come from memory past the points.
     vtkNew<vtkIdList> ids;
+    vtkIdType skipped = 0;
     for (vtkIdType c = 0; c < lines->GetNumberOfCells(); ++c)
     {
       lines->GetCellAtId(c, ids);
+      const vtkIdType* first = ids->GetPointer(0);
+      const vtkIdType* last = first + ids->GetNumberOfIds();
+      const vtkIdType* bad =
+        std::find_if(first, last, [count](vtkIdType id) { return id < 0 || id >= count; });
+      if (bad != last)
+      {
+        if (skipped++ == 0)
+        {
+          vtkWarningMacro(<< "Polyline " << c << " names point " << *bad << " but the input has "
+                          << count << " points (ids 0 to " << count - 1
+                          << "); such polylines are left out.");
+        }
+        continue;
+      }
       for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
       {
         add(ids->GetId(k), k == 0 ? -1 : std::int64_t(points.size()) - 1);
       }
+    }
+    if (skipped > 1)
+    {
+      vtkWarningMacro(<< skipped << " polylines name points the input does not have; they are left out.");
+    }
+    if (points.empty())
+    {
+      vtkErrorMacro(<< "No polyline names only points of the input; no tubes rendered.");
+      return nullptr;
     }
   }
 

@@ -215,3 +215,31 @@ TEST(BadInput, InteractiveSettingsAreClampedAndPrintedByBothMapperKinds)
   ExpectInteractiveSettings<vtkSightlineSphereMapper>();
   ExpectInteractiveSettings<vtkSightlineSphericalVolumeMapper>();
 }
+
+// A huge image size is an error before anything is allocated (it used to abort with an
+// uncaught std::bad_alloc in Framebuffer::resize), and the renderer still works afterwards.
+TEST(BadInput, HugeImageSizeIsRefusedByTheImageRenderer)
+{
+  auto spheres = MakeSpheres({ { 0, 0, 0 } }, { 0.5 });
+  Probe probe(spheres);
+  vtkNew<vtkSightlineImageRenderer> image;
+  vtkNew<MessageCollector> messages;
+  messages->Observe(image);
+  image->AddActor(probe.actor);
+  image->SetActiveCamera(MakeCamera(true, 10.0, 3.0));
+  for (const int size : { 46341, 100000 })
+  {
+    image->SetSize(size, size);
+    image->Update();
+    EXPECT_TRUE(messages->Contains("pixels needs")) << size;
+    EXPECT_TRUE(messages->Contains("beyond the renderer's budget of 8 GiB")) << size;
+  }
+  messages->Errors.clear();
+  image->SetSize(40, 30);
+  image->Update();
+  EXPECT_TRUE(messages->Errors.empty());
+  int dims[3];
+  image->GetOutput()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 40);
+  EXPECT_EQ(dims[1], 30);
+}

@@ -32,6 +32,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace sightline_test;
 
@@ -405,6 +406,20 @@ TEST(SphericalVolumeMapper, BadInputIsReportedByName)
     sightline::Framebuffer frame;
     EXPECT_FALSE(scene.mapper->RayTrace(scene.volume, MakeCamera(true), nullptr, 16, 16, frame));
     EXPECT_TRUE(messages->Contains("tuples"));
+  }
+  // Infinite and huge cell values are drawn empty with a warning (they were accepted silently;
+  // 1e308 overflows the mean of a cell's corners and the span of the transfer table).
+  {
+    VolumeScene scene;
+    vtkNew<MessageCollector> messages;
+    messages->Observe(scene.mapper);
+    auto grid = makeGrid({ 0.0, 0.5, 1.0 }, { 0.0, kPi }, { 0.0, kPi }, true);
+    grid->GetCellData()->GetScalars()->SetComponent(0, 0, std::numeric_limits<double>::infinity());
+    grid->GetCellData()->GetScalars()->SetComponent(1, 0, 1e308);
+    scene.mapper->SetInputDataObject(grid);
+    sightline::Framebuffer frame;
+    EXPECT_TRUE(scene.mapper->RayTrace(scene.volume, MakeCamera(true), nullptr, 16, 16, frame));
+    EXPECT_TRUE(messages->Contains("2 cells have NaN, infinite or out-of-range values"));
   }
   // Bad source settings.
   {

@@ -18,7 +18,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 using namespace sightline_test;
 
@@ -287,4 +290,67 @@ TEST(TubeMapper, BadInputIsReportedByName)
   points->SetPoints(line->GetPoints());
   auto noLines = render(points, [](vtkSightlineTubeMapper*) {});
   EXPECT_TRUE(has(noLines.first, "no polylines"));
+}
+
+// Polylines naming points the input does not have (found by fuzzing the mapper: 100000 in a
+// 6-point data set was a SIGSEGV, 99 and -7 drew links from stray memory without a word) are
+// left out with a warning naming one; the valid polyline still renders.
+TEST(TubeMapper, PolylinesWithPointIdsOutOfRangeAreLeftOutByName)
+{
+  auto input = Polyline({ { { 0, 0, 0 } }, { { 1, 0, 0 } }, { { 2, 0, 0 } }, { { 0, 1, 0 } },
+    { { 1, 1, 0 } }, { { 2, 1, 0 } } });
+  vtkNew<vtkCellArray> lines;
+  lines->InsertNextCell({ 0, 1, 2 });
+  lines->InsertNextCell({ 3, 100000 });
+  lines->InsertNextCell({ 4, 99 });
+  lines->InsertNextCell({ 5, -7 });
+  input->SetLines(lines);
+  Scene scene(64, 64);
+  vtkNew<MessageCollector> messages;
+  messages->Observe(scene.mapper);
+  scene.mapper->SetInputDataObject(input);
+  scene.mapper->SetRadius(0.2);
+  scene.renderer->ResetCamera();
+  scene.window->Render();
+  EXPECT_TRUE(messages->Contains("Polyline 1 names point 100000 but the input has 6 points"));
+  EXPECT_TRUE(messages->Contains("3 polylines name points the input does not have"));
+  EXPECT_EQ(scene.mapper->GetNumberOfLinks(), 3) << "only the valid polyline is drawn";
+  EXPECT_GT(CoveredPixels(CaptureRGB(scene.window)), 0);
+
+  vtkNew<vtkCellArray> onlyBad;
+  onlyBad->InsertNextCell({ 0, 6 });
+  input->SetLines(onlyBad);
+  vtkNew<MessageCollector> errors;
+  errors->Observe(scene.mapper);
+  scene.window->Render();
+  EXPECT_TRUE(errors->Contains("No polyline names only points of the input"));
+}
+
+// Predecessor values that are no point index are named as they are: NaN used to be reported as
+// "predecessor 6" (the point count), 1e300 as -9223372036854775808, and 1.5 became 1 silently.
+TEST(TubeMapper, PredecessorValuesThatAreNoIndexAreNamed)
+{
+  for (const auto& [value, text] : std::vector<std::pair<double, std::string>>{
+         { std::numeric_limits<double>::quiet_NaN(), "the predecessor nan" },
+         { 1e300, "the predecessor 1e+300" },
+         { -1e300, "the predecessor -1e+300" },
+         { 1.5, "the predecessor 1.5" },
+         { 3.0, "the predecessor 3" } })
+  {
+    auto line = Polyline({ { { 0, 0, 0 } }, { { 1, 0, 0 } }, { { 2, 0, 0 } } });
+    vtkNew<vtkDoubleArray> parent;
+    parent->SetName("parent");
+    for (double v : { -1.0, 0.0, value })
+      parent->InsertNextValue(v);
+    line->GetPointData()->AddArray(parent);
+    Scene scene(32, 32);
+    vtkNew<MessageCollector> messages;
+    messages->Observe(scene.mapper);
+    scene.mapper->SetInputDataObject(line);
+    scene.mapper->SetPredecessorArrayName("parent");
+    scene.renderer->ResetCamera();
+    scene.window->Render();
+    EXPECT_TRUE(messages->Contains("gives point 2 " + text + ", which is not -1 (none) or a point index in [0, 2]"))
+      << "value " << value;
+  }
 }

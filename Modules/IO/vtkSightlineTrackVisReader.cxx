@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -323,8 +324,8 @@ int vtkSightlineTrackVisReader::RequestData(
       cut = true;
       break;
     }
-    // The points first, mapped: a streamline with a NaN or infinite coordinate is left out
-    // whole (its scalars and properties with it).
+    // The points first, mapped: a streamline with a NaN or infinite coordinate, or one that
+    // maps beyond float range, is left out whole (its scalars and properties with it).
     mapped.resize(3 * static_cast<std::size_t>(count));
     const char* data = body.data() + at + 4;
     bool finite = true;
@@ -337,7 +338,10 @@ int vtkSightlineTrackVisReader::RequestData(
       {
         this->VoxmmToRAS->MultiplyPoint(p, p);
       }
-      finite = finite && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+      // The output points are floats: a finite double beyond float range would become inf.
+      constexpr double largest = std::numeric_limits<float>::max();
+      finite = finite && std::abs(p[0]) <= largest && std::abs(p[1]) <= largest &&
+        std::abs(p[2]) <= largest;
       std::copy(p, p + 3, mapped.begin() + 3 * k);
     }
     at += bytes;
@@ -366,8 +370,8 @@ int vtkSightlineTrackVisReader::RequestData(
   if (skipped > 0)
   {
     vtkWarningMacro(<< name << ": " << skipped << " streamlines have NaN or infinite "
-                    << "coordinates and were left out (the first is streamline " << firstSkipped
-                    << ").");
+                    << "coordinates, or coordinates beyond single precision in RAS, and were "
+                    << "left out (the first is streamline " << firstSkipped << ").");
   }
   if (cut || at != body.size())
   {

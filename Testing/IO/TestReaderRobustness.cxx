@@ -359,9 +359,9 @@ TEST(ReaderRobustness, TCKIncompleteLastStreamlineLeavesNoStrayPoints)
 // TrackVis.
 namespace
 {
-/// A little-endian version-2 file of 2 mm voxels, RAS matrix, 3 streamlines of 2 points; the
-/// middle streamline's second point is `middle`.
-std::string Trk(const char* order, float middle)
+/// A little-endian version-2 file of 2 mm voxels, RAS matrix (diagonal `scale`, 1), 3
+/// streamlines of 2 points; the middle streamline's second point is `middle`.
+std::string Trk(const char* order, float middle, float scale = 2.0f)
 {
   std::string h(1000, '\0');
   std::memcpy(&h[0], "TRACK", 5);
@@ -373,7 +373,7 @@ std::string Trk(const char* order, float middle)
   }
   for (int i = 0; i < 4; ++i)
   {
-    put(440 + 4 * (4 * i + i), i == 3 ? 1.0f : 2.0f);
+    put(440 + 4 * (4 * i + i), i == 3 ? 1.0f : scale);
   }
   std::memcpy(&h[948], order, std::strlen(order));
   put(988, std::int32_t(3));
@@ -408,8 +408,10 @@ TEST(ReaderRobustness, TrackVisNonFiniteCoordinatesAreLeftOutWithAWarning)
       vtkNew<Messages> messages;
       Read(reader.Get(), path, messages);
       EXPECT_TRUE(messages->errors.empty()) << messages->errors;
-      EXPECT_NE(messages->warnings.find("1 streamlines have NaN or infinite coordinates and were "
-                                        "left out (the first is streamline 1)"),
+      EXPECT_NE(messages->warnings.find("1 streamlines have NaN or infinite coordinates"),
+        std::string::npos)
+        << messages->warnings;
+      EXPECT_NE(messages->warnings.find("were left out (the first is streamline 1)"),
         std::string::npos)
         << messages->warnings;
       vtkPolyData* output = reader->GetOutput();
@@ -424,6 +426,31 @@ TEST(ReaderRobustness, TrackVisNonFiniteCoordinatesAreLeftOutWithAWarning)
       ExpectEveryPointOnALine(output);
     }
   }
+}
+
+// Finite coordinates whose voxel-to-RAS image is beyond single precision became infinite
+// output points (found by the fuzz campaign: huge voxel sizes in the matrix).
+TEST(ReaderRobustness, TrackVisCoordinatesBeyondFloatAfterMappingAreLeftOut)
+{
+  const std::string path = TempFile("overflow.trk");
+  WriteBytes(path, Trk("RAS", 1e33f, 2e6f));
+  vtkNew<vtkSightlineTrackVisReader> reader;
+  vtkNew<Messages> messages;
+  Read(reader.Get(), path, messages);
+  EXPECT_TRUE(messages->errors.empty()) << messages->errors;
+  EXPECT_NE(messages->warnings.find("1 streamlines have NaN or infinite coordinates, or "
+                                    "coordinates beyond single precision in RAS"),
+    std::string::npos)
+    << messages->warnings;
+  vtkPolyData* output = reader->GetOutput();
+  EXPECT_EQ(output->GetNumberOfCells(), 2);
+  for (vtkIdType i = 0; i < output->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    output->GetPoint(i, p);
+    EXPECT_TRUE(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) << i;
+  }
+  ExpectEveryPointOnALine(output);
 }
 
 // Voxel orders naming an axis twice were accepted and the voxmm-to-RAS matrix degenerated.

@@ -158,31 +158,60 @@ bool EmbreeScene::intersect(RTCRayHit& rayhit, bool coherent) const
   return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
-bool EmbreeScene::occluded(const Ray& ray) const
+namespace
 {
-  RTCRayHit rh = makeRayHit(ray);
-  TraceContext context;
+/// A context whose primitives intersect `ray` while Embree traverses its float rounding.
+void initDoubleTrace(TraceContext& context, const DoubleRay& ray)
+{
   rtcInitIntersectContext(&context.embree);
+  context.ray = &ray;
+  context.tfar = ray.tfar;
+}
+} // namespace
+
+bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) const
+{
+  RTCRayHit rh = makeRayHit(ray.rounded());
+  TraceContext context;
+  initDoubleTrace(context, ray);
+  if (coherent)
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1(Scene, &context.embree, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+    return false;
+  const bool userHit = rh.hit.geomID == context.tfarGeomID && rh.hit.primID == context.tfarPrimID;
+  hit.t = userHit ? context.tfar : double(rh.ray.tfar);
+  hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  hit.geomID = rh.hit.geomID;
+  hit.primID = rh.hit.primID;
+  return true;
+}
+
+bool EmbreeScene::occluded(const DoubleRay& ray) const
+{
+  RTCRayHit rh = makeRayHit(ray.rounded());
+  TraceContext context;
+  initDoubleTrace(context, ray);
   rtcOccluded1(Scene, &context.embree, &rh.ray);
   return rh.ray.tfar < 0.0f;
 }
 
-double EmbreeScene::insideLength(const Ray& ray, float& firstEntry) const
+double EmbreeScene::insideLength(const DoubleRay& ray, float& firstEntry) const
 {
-  RTCRayHit rh = makeRayHit(ray);
+  RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  rtcInitIntersectContext(&context.embree);
+  initDoubleTrace(context, ray);
   context.volumeQuery = true;
   rtcIntersect1(Scene, &context.embree, &rh);
   firstEntry = context.firstEntry;
   return context.insideLength;
 }
 
-void EmbreeScene::insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const
+void EmbreeScene::insideIntervals(const DoubleRay& ray, std::vector<InsideInterval>& out) const
 {
-  RTCRayHit rh = makeRayHit(ray);
+  RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  rtcInitIntersectContext(&context.embree);
+  initDoubleTrace(context, ray);
   context.intervals = &out;
   rtcIntersect1(Scene, &context.embree, &rh);
 }

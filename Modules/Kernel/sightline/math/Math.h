@@ -34,6 +34,32 @@ struct Ray
   float tfar = kInfinity;
 };
 
+/// The same ray in double precision: what primary, shadow and volume rays are generated in and
+/// what primitives intersect, so that a ray far from the world origin keeps the precision it
+/// has relative to the primitives it meets (float would round its origin by 2^-24 |origin|).
+/// Converts implicitly from Ray (the float ray's exact value).
+struct DoubleRay
+{
+  dvec3 origin{ 0.0 };
+  dvec3 direction{ 0.0, 0.0, -1.0 };
+  double tnear = 0.0;
+  double tfar = std::numeric_limits<double>::infinity();
+
+  DoubleRay() = default;
+  DoubleRay(const dvec3& o, const dvec3& d, double near, double far)
+    : origin(o), direction(d), tnear(near), tfar(far)
+  {
+  }
+  DoubleRay(const Ray& ray) // NOLINT(google-explicit-constructor): every float ray is exact in double
+    : origin(ray.origin), direction(ray.direction), tnear(ray.tnear), tfar(ray.tfar)
+  {
+  }
+  dvec3 at(double t) const { return origin + t * direction; }
+  /// The float rounding (for Embree's traversal and callers of the float API); the interval
+  /// only widens, so no point of the double ray's segment is cut off.
+  Ray rounded() const;
+};
+
 /// Axis-aligned box; an empty box has lower > upper.
 struct Box3
 {
@@ -52,6 +78,20 @@ struct Box3
   }
   bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
 };
+
+inline Ray DoubleRay::rounded() const
+{
+  Ray ray;
+  ray.origin = vec3(origin);
+  ray.direction = vec3(direction);
+  ray.tnear = float(tnear);
+  if (double(ray.tnear) > tnear)
+    ray.tnear = std::nextafter(ray.tnear, -kInfinity);
+  ray.tfar = float(tfar);
+  if (double(ray.tfar) < tfar)
+    ray.tfar = std::nextafter(ray.tfar, kInfinity);
+  return ray;
+}
 
 inline bool isFinite(const vec3& v)
 {

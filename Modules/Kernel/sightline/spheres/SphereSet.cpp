@@ -38,6 +38,44 @@ bool intersectSphere(const vec3& center, float radius, const Ray& ray, SurfaceHi
   return true;
 }
 
+bool intersectSphere(const dvec3& center, double radius, const DoubleRay& ray, SurfaceHit& hit)
+{
+  // The float version's cancellation-free solution, in double and in the sphere's frame.
+  const dvec3 f = ray.origin - center;
+  const double a = glm::dot(ray.direction, ray.direction);
+  const double b = -glm::dot(f, ray.direction);
+  const dvec3 offLine = f + (b / a) * ray.direction;
+  const double r2 = radius * radius;
+  const double discriminant = a * (r2 - glm::dot(offLine, offLine));
+  if (!(discriminant >= 0.0))
+    return false;
+  const double c = glm::dot(f, f) - r2;
+  const double q = b + std::copysign(std::sqrt(discriminant), b);
+  double t0 = c / q;
+  double t1 = q / a;
+  if (q == 0.0)
+    t0 = t1 = 0.0;
+  if (t0 > t1)
+    std::swap(t0, t1);
+  double t = t0;
+  if (!(t > ray.tnear))
+    t = t1;
+  if (!(t > ray.tnear) || !(t < ray.tfar))
+    return false;
+  hit.t = t;
+  hit.normal = vec3((f + t * ray.direction) / radius);
+  return true;
+}
+
+SphereSet::SphereSet(const dvec3& origin, const std::vector<vec3>& centers,
+  const std::vector<float>& radii, float defaultRadius, const std::vector<std::uint32_t>& colors)
+  : SphereSet(centers, radii, defaultRadius, colors)
+{
+  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
+    throw std::invalid_argument("sightline::SphereSet: the origin must be finite");
+  Origin = origin;
+}
+
 SphereSet::SphereSet(const std::vector<vec3>& centers, const std::vector<float>& radii,
   float defaultRadius, const std::vector<std::uint32_t>& colors)
 {
@@ -109,7 +147,8 @@ std::size_t SphereSet::memoryBytes() const
 Box3 SphereSet::bounds(unsigned primitive) const
 {
   const vec4& s = Spheres[primitive];
-  return { vec3(s) - s.w, vec3(s) + s.w };
+  const dvec3 center = Origin + dvec3(vec3(s));
+  return { vec3(center - double(s.w)), vec3(center + double(s.w)) };
 }
 
 Box3 SphereSet::bounds() const

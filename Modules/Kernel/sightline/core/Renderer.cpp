@@ -330,7 +330,9 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     const Box3 box = translucent->bounds();
     translucentBounds = box;
     const double diagonal = glm::length(box.upper - box.lower);
-    unionGap = 1e-7 * (diagonal + glm::length(box.upper) + glm::length(box.lower));
+    // Interval ends come from double rays in each primitive's frame: their rounding scales with
+    // the scene's size, not its distance from the origin (the small second term is double's).
+    unionGap = 2e-7 * diagonal + 1e-14 * (glm::length(box.upper) + glm::length(box.lower));
     // A first segment of 1/64 of the scene: dense scenes saturate within a few segments, and
     // a ray through the whole scene costs log2(64) + 1 extra traversals at most.
     translucentSegment = std::max(diagonal / 32.0, 1e-30);

@@ -127,21 +127,29 @@ std::size_t EmbreeScene::geometryBytes() const
   return bytes;
 }
 
+namespace
+{
+inline void fillEmbreeRay(RTCRay& out, const Ray& ray)
+{
+  out.org_x = ray.origin.x;
+  out.org_y = ray.origin.y;
+  out.org_z = ray.origin.z;
+  out.dir_x = ray.direction.x;
+  out.dir_y = ray.direction.y;
+  out.dir_z = ray.direction.z;
+  out.tnear = ray.tnear;
+  out.tfar = ray.tfar;
+  out.time = 0.0f;
+  out.mask = ~0u;
+  out.id = 0;
+  out.flags = 0;
+}
+} // namespace
+
 RTCRayHit makeRayHit(const Ray& ray)
 {
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.tnear;
-  rh.ray.tfar = ray.tfar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = ~0u;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  fillEmbreeRay(rh.ray, ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -171,7 +179,10 @@ void initDoubleTrace(TraceContext& context, const DoubleRay& ray)
 
 bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) const
 {
-  RTCRayHit rh = makeRayHit(ray.rounded());
+  RTCRayHit rh;
+  fillEmbreeRay(rh.ray, ray.rounded());
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   TraceContext context;
   initDoubleTrace(context, ray);
   if (coherent)

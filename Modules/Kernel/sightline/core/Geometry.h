@@ -114,8 +114,8 @@ inline void padForTraversal(Box3& box)
   {
     const double pad = kBoxRoundingPad *
       std::max(std::abs(double(box.lower[axis])), std::abs(double(box.upper[axis])));
-    box.lower[axis] = std::nextafter(float(double(box.lower[axis]) - pad), -kInfinity);
-    box.upper[axis] = std::nextafter(float(double(box.upper[axis]) + pad), kInfinity);
+    box.lower[axis] = floatAtMost(double(box.lower[axis]) - pad);
+    box.upper[axis] = floatAtLeast(double(box.upper[axis]) + pad);
   }
 }
 
@@ -204,8 +204,7 @@ private:
         trace->tfar = hit.t;
         trace->tfarGeomID = args->geomID;
         trace->tfarPrimID = args->primID;
-        if (double(embreeFar) < hit.t)
-          embreeFar = std::nextafter(embreeFar, kInfinity);
+        embreeFar = floatAtLeast(hit.t);
       }
       RTCRayN_tfar(rays, args->N, i) = embreeFar;
       RTCHitN_Ng_x(hits, args->N, i) = hit.normal.x;

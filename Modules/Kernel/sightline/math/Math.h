@@ -4,6 +4,8 @@
 #include <glm/glm.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace sightline
@@ -79,17 +81,34 @@ struct Box3
   bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
 };
 
+/// The smallest float >= x (largest <= x): conservative bounds and ray intervals. Inline bit
+/// steps rather than std::nextafter, a library call, since rays are rounded once per trace.
+inline float floatAtLeast(double x)
+{
+  float f = float(x);
+  if (double(f) < x) // f is finite here: x > f >= -FLT_MAX
+  {
+    if (f == 0.0f)
+      return std::numeric_limits<float>::denorm_min();
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = f > 0.0f ? bits + 1 : bits - 1;
+    std::memcpy(&f, &bits, sizeof f);
+  }
+  return f;
+}
+inline float floatAtMost(double x)
+{
+  return -floatAtLeast(-x);
+}
+
 inline Ray DoubleRay::rounded() const
 {
   Ray ray;
   ray.origin = vec3(origin);
   ray.direction = vec3(direction);
-  ray.tnear = float(tnear);
-  if (double(ray.tnear) > tnear)
-    ray.tnear = std::nextafter(ray.tnear, -kInfinity);
-  ray.tfar = float(tfar);
-  if (double(ray.tfar) < tfar)
-    ray.tfar = std::nextafter(ray.tfar, kInfinity);
+  ray.tnear = floatAtMost(tnear);
+  ray.tfar = floatAtLeast(tfar);
   return ray;
 }
 

@@ -82,13 +82,18 @@ Framebuffer renderAt(const FarScene& s, const dvec3& origin, Positions positions
 {
   const CameraParameters parameters = cameraNear(origin, s.size);
   const Camera camera = Camera::fromParameters(parameters, kImageSize, kImageSize);
-  const Lighting lighting =
+  // A headlight and a side light whose shadows the primitives cast on each other.
+  Lighting lighting =
     Lighting::headlight(vec3(glm::normalize(parameters.focalPoint - parameters.position)));
+  lighting.lights.push_back({ glm::normalize(vec3(-1.0f, -0.5f, -0.6f)) });
   std::shared_ptr<Geometry> geometry = s.build(origin, positions);
   EmbreeScene opaque, other;
   RenderOptions options;
   if (s.drawn == FarScene::Drawn::Opaque)
+  {
     opaque.add(geometry);
+    options.shadows.mode = ShadowMode::Hard;
+  }
   else
   {
     other.add(geometry);

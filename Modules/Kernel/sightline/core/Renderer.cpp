@@ -57,11 +57,9 @@ void lightVisibility(const FrameContext& frame, const dvec3& point, double hitDi
 {
   const ShadowOptions& shadows = frame.options.shadows;
   // Leave the surface along the normal by a little more than the hit point's error: the hit is
-  // computed in double along the double ray, so that error scales with the distance travelled
-  // (or, as it always did, with the distance from the origin if that is smaller), not with how
-  // far the point is from the origin.
-  const double offset = 1e-5 * (std::min(glm::length(point), hitDistance) + 1.0) +
-    1e-14 * glm::length(point);
+  // computed in double along the double ray, so that error scales with the distance travelled,
+  // not with how far the point is from the origin (double's rounding of it is the last term).
+  const double offset = 1e-5 * (hitDistance + 1.0) + 1e-14 * glm::length(point);
   const dvec3 origin = point + offset * dvec3(objectNormal);
   const std::size_t lights = std::min<std::size_t>(frame.lighting.lights.size(), kMaxShadowedLights);
   for (std::size_t i = 0; i < lights; ++i)

@@ -172,8 +172,8 @@ namespace
 void initDoubleTrace(TraceContext& context, const DoubleRay& ray)
 {
   rtcInitIntersectContext(&context.embree);
-  context.ray = &ray;
-  context.tfar = ray.tfar;
+  context.hasDoubleRay = true;
+  context.ray = ray;
 }
 } // namespace
 
@@ -191,7 +191,7 @@ bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) 
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
     return false;
   const bool userHit = rh.hit.geomID == context.tfarGeomID && rh.hit.primID == context.tfarPrimID;
-  hit.t = userHit ? context.tfar : double(rh.ray.tfar);
+  hit.t = userHit ? context.ray.tfar : double(rh.ray.tfar);
   hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   hit.geomID = rh.hit.geomID;
   hit.primID = rh.hit.primID;

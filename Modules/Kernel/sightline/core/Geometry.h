@@ -91,12 +91,12 @@ struct TraceContext
   /// instead of reporting hits, so Embree visits every box along the ray.
   std::vector<InsideInterval>* intervals = nullptr;
   float firstEntry = kInfinity;
-  /// The double-precision ray of a single-ray trace (Embree traverses its float rounding), and
-  /// the nearest hit on it so far: primitives intersect this ray, not Embree's. Null when a
-  /// caller traced a float ray of its own. The hit's ids tell whether Embree's final hit is
-  /// that one (and not a nearer one on a built-in float geometry such as triangles).
-  const DoubleRay* ray = nullptr;
-  double tfar = 0.0;
+  /// The double-precision ray of a single-ray trace (Embree traverses its float rounding), its
+  /// tfar lowered to each hit: primitives intersect this ray, not Embree's. Unused when a
+  /// caller traced a float ray of its own. The ids of the hit that set tfar tell whether
+  /// Embree's final hit is that one (not a nearer one on a built-in float geometry).
+  bool hasDoubleRay = false;
+  DoubleRay ray;
   unsigned tfarGeomID = RTC_INVALID_GEOMETRY_ID;
   unsigned tfarPrimID = RTC_INVALID_GEOMETRY_ID;
 };
@@ -154,16 +154,13 @@ private:
     args->bounds_o->upper_z = box.upper.z;
   }
 
-  /// The trace's double ray when it has one, else Embree's float ray.
-  static DoubleRay loadRay(const TraceContext* trace, RTCRayN* rays, unsigned n, unsigned i)
+  /// The trace's double ray when it has one (no copy), else Embree's float ray in `scratch`.
+  static const DoubleRay& loadRay(
+    const TraceContext* trace, RTCRayN* rays, unsigned n, unsigned i, DoubleRay& scratch)
   {
-    if (trace->ray && n == 1)
-    {
-      DoubleRay ray = *trace->ray;
-      ray.tfar = trace->tfar;
-      return ray;
-    }
-    return DoubleRay(
+    if (trace->hasDoubleRay && n == 1)
+      return trace->ray;
+    return scratch = DoubleRay(
       dvec3(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i)),
       dvec3(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i)),
       RTCRayN_tnear(rays, n, i), RTCRayN_tfar(rays, n, i));
@@ -175,6 +172,7 @@ private:
     RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
     RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
     auto* trace = reinterpret_cast<TraceContext*>(args->context);
+    DoubleRay scratch;
     for (unsigned i = 0; i < args->N; ++i)
     {
       if (args->valid[i] != -1)
@@ -182,7 +180,7 @@ private:
       if (trace->intervals)
       {
         const std::size_t before = trace->intervals->size();
-        self->insideIntervals(args->primID, loadRay(trace, rays, args->N, i), *trace->intervals);
+        self->insideIntervals(args->primID, loadRay(trace, rays, args->N, i, scratch), *trace->intervals);
         for (std::size_t k = before; k < trace->intervals->size(); ++k)
           (*trace->intervals)[k].geometry = args->geomID;
         continue;
@@ -190,18 +188,18 @@ private:
       if (trace->volumeQuery)
       {
         float entry = kInfinity;
-        trace->insideLength += self->insideLength(args->primID, loadRay(trace, rays, args->N, i), entry);
+        trace->insideLength += self->insideLength(args->primID, loadRay(trace, rays, args->N, i, scratch), entry);
         trace->firstEntry = std::min(trace->firstEntry, entry);
         continue;
       }
       SurfaceHit hit;
-      if (!self->intersect(args->primID, loadRay(trace, rays, args->N, i), hit))
+      if (!self->intersect(args->primID, loadRay(trace, rays, args->N, i, scratch), hit))
         continue;
       float embreeFar = float(hit.t);
-      if (trace->ray && args->N == 1)
+      if (trace->hasDoubleRay && args->N == 1)
       {
         // Embree culls boxes by its float tfar: round up, so nothing before the hit is culled.
-        trace->tfar = hit.t;
+        trace->ray.tfar = hit.t;
         trace->tfarGeomID = args->geomID;
         trace->tfarPrimID = args->primID;
         embreeFar = floatAtLeast(hit.t);
@@ -222,12 +220,13 @@ private:
   {
     const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
     const auto* trace = reinterpret_cast<const TraceContext*>(args->context);
+    DoubleRay scratch;
     for (unsigned i = 0; i < args->N; ++i)
     {
       if (args->valid[i] != -1)
         continue;
       SurfaceHit hit;
-      if (self->intersect(args->primID, loadRay(trace, args->ray, args->N, i), hit))
+      if (self->intersect(args->primID, loadRay(trace, args->ray, args->N, i, scratch), hit))
         RTCRayN_tfar(args->ray, args->N, i) = -kInfinity;
     }
   }

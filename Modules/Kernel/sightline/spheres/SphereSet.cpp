@@ -40,11 +40,13 @@ bool intersectSphere(const vec3& center, float radius, const Ray& ray, SurfaceHi
 
 bool intersectSphere(const dvec3& center, double radius, const DoubleRay& ray, SurfaceHit& hit)
 {
-  // The float version's cancellation-free solution, in double and in the sphere's frame.
+  // The float version's cancellation-free solution, in double and in the sphere's frame; one
+  // division less (1/a overlaps the dot products), and the normal left unnormalised.
   const dvec3 f = ray.origin - center;
   const double a = glm::dot(ray.direction, ray.direction);
+  const double inverseA = 1.0 / a;
   const double b = -glm::dot(f, ray.direction);
-  const dvec3 offLine = f + (b / a) * ray.direction;
+  const dvec3 offLine = f + (b * inverseA) * ray.direction;
   const double r2 = radius * radius;
   const double discriminant = a * (r2 - glm::dot(offLine, offLine));
   if (!(discriminant >= 0.0))
@@ -52,7 +54,7 @@ bool intersectSphere(const dvec3& center, double radius, const DoubleRay& ray, S
   const double c = glm::dot(f, f) - r2;
   const double q = b + std::copysign(std::sqrt(discriminant), b);
   double t0 = c / q;
-  double t1 = q / a;
+  double t1 = q * inverseA;
   if (q == 0.0)
     t0 = t1 = 0.0;
   if (t0 > t1)
@@ -63,7 +65,7 @@ bool intersectSphere(const dvec3& center, double radius, const DoubleRay& ray, S
   if (!(t > ray.tnear) || !(t < ray.tfar))
     return false;
   hit.t = t;
-  hit.normal = vec3((f + t * ray.direction) / radius);
+  hit.normal = vec3(f + t * ray.direction);
   return true;
 }
 

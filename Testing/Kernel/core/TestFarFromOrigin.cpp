@@ -469,15 +469,13 @@ TEST(FarFromOrigin, SphericalVolume)
   const SphericalGrid grid{ { 0.0, 0.6, 1.2, 2.0 }, { 0.0, 0.7, kPi / 2, 2.4, kPi },
     { -kPi, -1.0, 0.5, kPi } };
   const SphericalTraversal traversal(grid);
-  std::vector<double> values(grid.cellCount());
-  for (int ip = 0; ip < grid.azimuthalCells(); ++ip)
-    for (int it = 0; it < grid.polarCells(); ++it)
-      for (int ir = 0; ir < grid.radialCells(); ++ir)
-        values[grid.cellIndex(ir, it, ip)] = grid.radius[std::size_t(ir)] >= 1.2 ? 1.0 : 0.0;
+  // Extinction in the shell 1.2 <= r <= 2 (radial cells 2 and up; r varies fastest in the order).
   const double k = 0.7;
-  auto transfer = [&](double v) { return TransferSample{ vec3(0.2f, 0.6f, 1.0f), v * k }; };
+  std::vector<TransferSample> cells(grid.cellCount(), TransferSample{ vec3(0.2f, 0.6f, 1.0f), 0.0 });
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    cells[c].extinction = c % std::size_t(grid.radialCells()) >= 2 ? k : 0.0;
   expectExactVolume("spherical volume", k,
-    [&](const Camera& camera, Framebuffer& fb) { renderSphericalVolume(traversal, values, transfer, camera, fb); },
+    [&](const Camera& camera, Framebuffer& fb) { renderSphericalVolume(traversal, cells, camera, fb); },
     [](const dvec3& o, const dvec3& d) { return sphereChord(o, d, 2.0) - sphereChord(o, d, 1.2); });
 }
 

@@ -16,7 +16,7 @@ namespace sightline
 /// far away keep their accuracy. `direction` need not be unit length.
 bool intersectSphere(const vec3& center, float radius, const Ray& ray, SurfaceHit& hit);
 /// The same in double, in the sphere's frame (ray origin minus centre): what SphereSet uses, so
-/// that precision is relative to the radius wherever the sphere is.
+/// that precision is relative to the radius wherever the sphere is. Its normal has length radius.
 bool intersectSphere(const dvec3& center, double radius, const DoubleRay& ray, SurfaceHit& hit);
 
 class SphereSet : public UserGeometry<SphereSet>

@@ -325,16 +325,16 @@ public:
   Box3 bounds() const override { return AllBounds; }
   Box3 bounds(unsigned primitive) const { return Boxes[primitive]; }
 
-  bool intersect(unsigned primitive, const sightline::Ray& ray, sightline::SurfaceHit& hit) const
+  bool intersect(unsigned primitive, const sightline::DoubleRay& ray, sightline::SurfaceHit& hit) const
   {
     const Box3& box = Boxes[primitive];
-    float tEnter = ray.tnear, tExit = ray.tfar;
+    double tEnter = ray.tnear, tExit = ray.tfar;
     int axis = -1;
     for (int a = 0; a < 3; ++a)
     {
-      const float inverse = 1.0f / ray.direction[a];
-      float t0 = (box.lower[a] - ray.origin[a]) * inverse;
-      float t1 = (box.upper[a] - ray.origin[a]) * inverse;
+      const double inverse = 1.0 / ray.direction[a];
+      double t0 = (box.lower[a] - ray.origin[a]) * inverse;
+      double t1 = (box.upper[a] - ray.origin[a]) * inverse;
       if (t0 > t1)
         std::swap(t0, t1);
       if (t0 > tEnter)

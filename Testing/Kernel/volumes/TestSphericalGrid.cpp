@@ -331,7 +331,7 @@ TEST(SphericalVolume, HomogeneousShellsAgainstClosedForms)
   for (int y = 0; y < camera.height(); ++y)
     for (int x = 0; x < camera.width(); ++x)
     {
-      const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+      const DoubleRay ray = camera.doublePrimaryRay(x + 0.5, y + 0.5); // the ray the renderer traces
       const dvec3 o(ray.origin), d(ray.direction);
       const double tc = -glm::dot(o, d);
       const double b2 = glm::dot(o + tc * d, o + tc * d);
@@ -355,7 +355,7 @@ TEST(SphericalVolume, HomogeneousShellsAgainstClosedForms)
   for (int y = 0; y < camera.height(); ++y)
     for (int x = 0; x < camera.width(); ++x)
     {
-      const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+      const DoubleRay ray = camera.doublePrimaryRay(x + 0.5, y + 0.5); // the ray the renderer traces
       const dvec3 o(ray.origin), d(ray.direction);
       const double tc = -glm::dot(o, d);
       const double b2 = glm::dot(o + tc * d, o + tc * d);

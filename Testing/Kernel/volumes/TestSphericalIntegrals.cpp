@@ -305,7 +305,7 @@ TEST(SphericalVolume, PointDataConvergesAtSecondOrder)
       for (int y = 0; y < 24; ++y)
         for (int x = 0; x < 24; ++x)
         {
-          const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
+          const DoubleRay ray = camera.doublePrimaryRay(x + 0.5, y + 0.5); // the ray the renderer traces
           const dvec3 o(ray.origin), d(ray.direction);
           double depth;
           if (cylindrical)

@@ -133,12 +133,12 @@ vec3 TriangleMesh::barycentric(unsigned primitive, const vec3& point) const
   return vec3(float(w0 / sum), float(w1 / sum), float(w2 / sum));
 }
 
-vec3 TriangleMesh::surfaceColor(unsigned primitive, const vec3& point) const
+vec3 TriangleMesh::surfaceColor(unsigned primitive, const dvec3& point) const
 {
   if (VertexColors.empty())
     return primitiveColor(primitive);
   const std::uint32_t* t = Indices.data() + 3 * std::size_t(primitive);
-  const vec3 w = barycentric(primitive, point);
+  const vec3 w = barycentric(primitive, vec3(point));
   return w.x * unpackRGB(VertexColors[t[0]]) + w.y * unpackRGB(VertexColors[t[1]]) +
     w.z * unpackRGB(VertexColors[t[2]]);
 }

@@ -46,7 +46,7 @@ public:
   /// The triangle's colour, or the mean of its vertices' colours.
   vec3 primitiveColor(unsigned primitive) const override;
   /// Vertex colours interpolated at the point (projected onto the triangle's plane).
-  vec3 surfaceColor(unsigned primitive, const vec3& point) const override;
+  vec3 surfaceColor(unsigned primitive, const dvec3& point) const override;
   std::size_t memoryBytes() const override;
   Box3 bounds() const override { return AllBounds; }
 

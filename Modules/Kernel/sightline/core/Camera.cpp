@@ -66,17 +66,23 @@ Camera Camera::fromParameters(const CameraParameters& parameters, int width, int
   return Camera(worldToClipMatrix(parameters, double(width) / double(height)), width, height);
 }
 
-Ray Camera::primaryRay(double px, double py) const
+DoubleRay Camera::doublePrimaryRay(double px, double py) const
 {
   const dvec3 nearPoint = NearBase + px * NearDx + py * NearDy;
   const dvec3 farPoint = FarBase + px * FarDx + py * FarDy;
   const dvec3 span = farPoint - nearPoint;
   const double length = glm::length(span);
+  return DoubleRay(nearPoint, span / length, 0.0, length);
+}
+
+Ray Camera::primaryRay(double px, double py) const
+{
+  const DoubleRay exact = doublePrimaryRay(px, py);
   Ray ray;
-  ray.origin = vec3(nearPoint);
-  ray.direction = vec3(span / length);
+  ray.origin = vec3(exact.origin);
+  ray.direction = vec3(exact.direction);
   ray.tnear = 0.0f;
-  ray.tfar = float(length);
+  ray.tfar = float(exact.tfar);
   return ray;
 }
 
@@ -93,8 +99,8 @@ dvec3 Camera::unproject(double px, double py, double windowDepth) const
 
 double Camera::primaryRayParameterAt(double px, double py, double windowDepth) const
 {
-  const Ray ray = primaryRay(px, py); // unit direction: t is a distance
-  const double t = glm::dot(unproject(px, py, windowDepth) - dvec3(ray.origin), dvec3(ray.direction));
-  return std::max(double(ray.tnear), t);
+  const DoubleRay ray = doublePrimaryRay(px, py); // unit direction: t is a distance
+  const double t = glm::dot(unproject(px, py, windowDepth) - ray.origin, ray.direction);
+  return std::max(ray.tnear, t);
 }
 } // namespace sightline

@@ -40,7 +40,10 @@ public:
 
   /// The primary ray through pixel coordinates (px, py), where (0, 0) is the lower-left corner
   /// of the image and pixel (i, j) has its centre at (i + 0.5, j + 0.5). The ray starts on the
-  /// near clipping plane and ends on the far one, as OpenGL clips.
+  /// near clipping plane and ends on the far one, as OpenGL clips. In double precision: what the
+  /// renderers trace.
+  DoubleRay doublePrimaryRay(double px, double py) const;
+  /// The same ray rounded to float (to nearest, as before rays were generated in double).
   Ray primaryRay(double px, double py) const;
 
   /// Window depth in [0, 1] of a world point, as glDepthRange(0, 1) stores it.

@@ -127,21 +127,29 @@ std::size_t EmbreeScene::geometryBytes() const
   return bytes;
 }
 
+namespace
+{
+inline void fillEmbreeRay(RTCRay& out, const Ray& ray)
+{
+  out.org_x = ray.origin.x;
+  out.org_y = ray.origin.y;
+  out.org_z = ray.origin.z;
+  out.dir_x = ray.direction.x;
+  out.dir_y = ray.direction.y;
+  out.dir_z = ray.direction.z;
+  out.tnear = ray.tnear;
+  out.tfar = ray.tfar;
+  out.time = 0.0f;
+  out.mask = ~0u;
+  out.id = 0;
+  out.flags = 0;
+}
+} // namespace
+
 RTCRayHit makeRayHit(const Ray& ray)
 {
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = ray.tnear;
-  rh.ray.tfar = ray.tfar;
-  rh.ray.time = 0.0f;
-  rh.ray.mask = ~0u;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
+  fillEmbreeRay(rh.ray, ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
@@ -158,31 +166,63 @@ bool EmbreeScene::intersect(RTCRayHit& rayhit, bool coherent) const
   return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
-bool EmbreeScene::occluded(const Ray& ray) const
+namespace
 {
-  RTCRayHit rh = makeRayHit(ray);
-  TraceContext context;
+/// A context whose primitives intersect `ray` while Embree traverses its float rounding.
+void initDoubleTrace(TraceContext& context, const DoubleRay& ray)
+{
   rtcInitIntersectContext(&context.embree);
+  context.hasDoubleRay = true;
+  context.ray = ray;
+}
+} // namespace
+
+bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) const
+{
+  RTCRayHit rh;
+  fillEmbreeRay(rh.ray, ray.rounded());
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  TraceContext context;
+  initDoubleTrace(context, ray);
+  if (coherent)
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect1(Scene, &context.embree, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+    return false;
+  const bool userHit = rh.hit.geomID == context.tfarGeomID && rh.hit.primID == context.tfarPrimID;
+  hit.t = userHit ? context.ray.tfar : double(rh.ray.tfar);
+  hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  hit.geomID = rh.hit.geomID;
+  hit.primID = rh.hit.primID;
+  return true;
+}
+
+bool EmbreeScene::occluded(const DoubleRay& ray) const
+{
+  RTCRayHit rh = makeRayHit(ray.rounded());
+  TraceContext context;
+  initDoubleTrace(context, ray);
   rtcOccluded1(Scene, &context.embree, &rh.ray);
   return rh.ray.tfar < 0.0f;
 }
 
-double EmbreeScene::insideLength(const Ray& ray, float& firstEntry) const
+double EmbreeScene::insideLength(const DoubleRay& ray, float& firstEntry) const
 {
-  RTCRayHit rh = makeRayHit(ray);
+  RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  rtcInitIntersectContext(&context.embree);
+  initDoubleTrace(context, ray);
   context.volumeQuery = true;
   rtcIntersect1(Scene, &context.embree, &rh);
   firstEntry = context.firstEntry;
   return context.insideLength;
 }
 
-void EmbreeScene::insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const
+void EmbreeScene::insideIntervals(const DoubleRay& ray, std::vector<InsideInterval>& out) const
 {
-  RTCRayHit rh = makeRayHit(ray);
+  RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  rtcInitIntersectContext(&context.embree);
+  initDoubleTrace(context, ray);
   context.intervals = &out;
   rtcIntersect1(Scene, &context.embree, &rh);
 }

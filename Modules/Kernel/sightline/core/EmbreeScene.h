@@ -37,6 +37,15 @@ private:
   std::atomic<std::int64_t> Allocated{ 0 };
 };
 
+/// The nearest hit of a double-precision ray.
+struct SceneHit
+{
+  double t = kInfinity; ///< along the double ray
+  vec3 normal{ 0.0f };  ///< the primitive's (not necessarily unit, nor facing the ray)
+  unsigned geomID = RTC_INVALID_GEOMETRY_ID;
+  unsigned primID = RTC_INVALID_GEOMETRY_ID;
+};
+
 /// Geometries plus their BVH. Add geometries, commit, then trace from any number of threads.
 class EmbreeScene
 {
@@ -62,17 +71,20 @@ public:
   /// Bytes of the geometries' own data.
   std::size_t geometryBytes() const;
 
-  /// Nearest hit along the ray; true if something was hit (rayhit.hit filled in).
+  /// Nearest hit along the ray; true if something was hit. Embree traverses the float rounding
+  /// of the ray, the primitives intersect the double ray itself.
+  bool intersect(const DoubleRay& ray, SceneHit& hit, bool coherent = false) const;
+  /// The same for a float ray given as Embree's (rayhit.hit and rayhit.ray.tfar filled in).
   bool intersect(RTCRayHit& rayhit, bool coherent = false) const;
   /// Whether anything lies on the ray in [tnear, tfar].
-  bool occluded(const Ray& ray) const;
+  bool occluded(const DoubleRay& ray) const;
   /// Total length of the ray segment [tnear, tfar] inside the scene's volume primitives
   /// (see Geometry::insideLength); `firstEntry` receives where the ray first enters one.
-  double insideLength(const Ray& ray, float& firstEntry) const;
+  double insideLength(const DoubleRay& ray, float& firstEntry) const;
 
   /// Appends the inside intervals (Geometry::insideIntervals) of every primitive whose box the
   /// ray segment [tnear, tfar] crosses; the intervals themselves are not clipped.
-  void insideIntervals(const Ray& ray, std::vector<InsideInterval>& out) const;
+  void insideIntervals(const DoubleRay& ray, std::vector<InsideInterval>& out) const;
 
 private:
   std::shared_ptr<EmbreeDevice> Device;

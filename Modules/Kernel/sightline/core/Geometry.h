@@ -26,7 +26,7 @@ inline std::uint32_t packRGBA8(std::uint8_t r, std::uint8_t g, std::uint8_t b, s
 /// What a primitive reports at the nearest hit, in the geometry's own coordinates.
 struct SurfaceHit
 {
-  float t = kInfinity;
+  double t = kInfinity; ///< along the double ray the primitive was given
   vec3 normal{ 0.0f }; ///< not necessarily unit length nor facing the ray
 };
 
@@ -47,26 +47,26 @@ public:
   virtual vec3 primitiveColor(unsigned primitive) const = 0;
   /// Colour at a surface point (scene coordinates), for primitives whose colour varies over
   /// the surface (glyphs coloured by direction). Only called when hasPrimitiveColors().
-  virtual vec3 surfaceColor(unsigned primitive, const vec3& /*point*/) const
+  virtual vec3 surfaceColor(unsigned primitive, const dvec3& /*point*/) const
   {
     return primitiveColor(primitive);
   }
   /// Length of the part of the ray segment [tnear, tfar] inside a primitive, for geometries
   /// rendered as homogeneous volumes (uncertainty glyphs); `entry` receives the first t inside.
   /// Geometries without an inside return 0.
-  virtual double insideLength(unsigned /*primitive*/, const Ray& /*ray*/, float& /*entry*/) const
+  virtual double insideLength(unsigned /*primitive*/, const DoubleRay& /*ray*/, float& /*entry*/) const
   {
     return 0.0;
   }
   /// Geometries drawn as unions of solids when translucent (RenderOptions::translucent):
   /// append the intervals where the ray's whole line is inside `primitive`'s solids.
   /// The default has no inside.
-  virtual void insideIntervals(unsigned /*primitive*/, const Ray& /*ray*/,
+  virtual void insideIntervals(unsigned /*primitive*/, const DoubleRay& /*ray*/,
     std::vector<InsideInterval>& /*out*/) const
   {
   }
   /// Outward (not necessarily unit) normal of a solid part at a point on its surface.
-  virtual vec3 partNormal(std::uint32_t /*part*/, const vec3& /*point*/) const { return vec3(0.0f); }
+  virtual vec3 partNormal(std::uint32_t /*part*/, const dvec3& /*point*/) const { return vec3(0.0f); }
   /// Colour of a solid part; only called when hasPrimitiveColors().
   virtual vec3 partColor(std::uint32_t /*part*/) const { return vec3(1.0f); }
   /// Bytes the geometry itself holds (the BVH is counted by the scene).
@@ -91,11 +91,39 @@ struct TraceContext
   /// instead of reporting hits, so Embree visits every box along the ray.
   std::vector<InsideInterval>* intervals = nullptr;
   float firstEntry = kInfinity;
+  /// The double-precision ray of a single-ray trace (Embree traverses its float rounding), its
+  /// tfar lowered to each hit: primitives intersect this ray, not Embree's. Unused when a
+  /// caller traced a float ray of its own. The ids of the hit that set tfar tell whether
+  /// Embree's final hit is that one (not a nearer one on a built-in float geometry).
+  bool hasDoubleRay = false;
+  DoubleRay ray;
+  unsigned tfarGeomID = RTC_INVALID_GEOMETRY_ID;
+  unsigned tfarPrimID = RTC_INVALID_GEOMETRY_ID;
 };
+
+/// Boxes handed to Embree are widened by this fraction of their largest coordinate (about 8 float
+/// ulps): they stay conservative after rounding to float, and contain every point the double ray
+/// passes within reach of Embree's float ray (which is off by ~2^-24 of its origin's distance from
+/// the world origin, camera near the primitives).
+constexpr double kBoxRoundingPad = 0x1p-21;
+
+/// A box rounded outward to float and padded by kBoxRoundingPad.
+inline void padForTraversal(Box3& box)
+{
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double pad = kBoxRoundingPad *
+      std::max(std::abs(double(box.lower[axis])), std::abs(double(box.upper[axis])));
+    box.lower[axis] = floatAtMost(double(box.lower[axis]) - pad);
+    box.upper[axis] = floatAtLeast(double(box.upper[axis]) + pad);
+  }
+}
 
 /// Adapter from a primitive type to Embree's user-geometry callbacks. Derived must provide
 ///   Box3 bounds(unsigned primitive) const;
-///   bool intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const;  // hit.t in (tnear, tfar)
+///   bool intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const;  // hit.t in (tnear, tfar)
+/// and intersects in double, in a frame local to the primitive (ray origin minus its centre), so
+/// precision depends on distances relative to the primitive, not on the distance from the origin.
 template <class Derived>
 class UserGeometry : public Geometry
 {
@@ -116,7 +144,8 @@ private:
   static void boundsCallback(const RTCBoundsFunctionArguments* args)
   {
     const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
-    const Box3 box = self->bounds(args->primID);
+    Box3 box = self->bounds(args->primID);
+    padForTraversal(box);
     args->bounds_o->lower_x = box.lower.x;
     args->bounds_o->lower_y = box.lower.y;
     args->bounds_o->lower_z = box.lower.z;
@@ -125,15 +154,16 @@ private:
     args->bounds_o->upper_z = box.upper.z;
   }
 
-  static Ray loadRay(RTCRayN* rays, unsigned n, unsigned i)
+  /// The trace's double ray when it has one (no copy), else Embree's float ray in `scratch`.
+  static const DoubleRay& loadRay(
+    const TraceContext* trace, RTCRayN* rays, unsigned n, unsigned i, DoubleRay& scratch)
   {
-    Ray ray;
-    ray.origin = vec3(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i));
-    ray.direction =
-      vec3(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i));
-    ray.tnear = RTCRayN_tnear(rays, n, i);
-    ray.tfar = RTCRayN_tfar(rays, n, i);
-    return ray;
+    if (trace->hasDoubleRay && n == 1)
+      return trace->ray;
+    return scratch = DoubleRay(
+      dvec3(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i)),
+      dvec3(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i)),
+      RTCRayN_tnear(rays, n, i), RTCRayN_tfar(rays, n, i));
   }
 
   static void intersectCallback(const RTCIntersectFunctionNArguments* args)
@@ -142,6 +172,7 @@ private:
     RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
     RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
     auto* trace = reinterpret_cast<TraceContext*>(args->context);
+    DoubleRay scratch;
     for (unsigned i = 0; i < args->N; ++i)
     {
       if (args->valid[i] != -1)
@@ -149,7 +180,7 @@ private:
       if (trace->intervals)
       {
         const std::size_t before = trace->intervals->size();
-        self->insideIntervals(args->primID, loadRay(rays, args->N, i), *trace->intervals);
+        self->insideIntervals(args->primID, loadRay(trace, rays, args->N, i, scratch), *trace->intervals);
         for (std::size_t k = before; k < trace->intervals->size(); ++k)
           (*trace->intervals)[k].geometry = args->geomID;
         continue;
@@ -157,14 +188,23 @@ private:
       if (trace->volumeQuery)
       {
         float entry = kInfinity;
-        trace->insideLength += self->insideLength(args->primID, loadRay(rays, args->N, i), entry);
+        trace->insideLength += self->insideLength(args->primID, loadRay(trace, rays, args->N, i, scratch), entry);
         trace->firstEntry = std::min(trace->firstEntry, entry);
         continue;
       }
       SurfaceHit hit;
-      if (!self->intersect(args->primID, loadRay(rays, args->N, i), hit))
+      if (!self->intersect(args->primID, loadRay(trace, rays, args->N, i, scratch), hit))
         continue;
-      RTCRayN_tfar(rays, args->N, i) = hit.t;
+      float embreeFar = float(hit.t);
+      if (trace->hasDoubleRay && args->N == 1)
+      {
+        // Embree culls boxes by its float tfar: round up, so nothing before the hit is culled.
+        trace->ray.tfar = hit.t;
+        trace->tfarGeomID = args->geomID;
+        trace->tfarPrimID = args->primID;
+        embreeFar = floatAtLeast(hit.t);
+      }
+      RTCRayN_tfar(rays, args->N, i) = embreeFar;
       RTCHitN_Ng_x(hits, args->N, i) = hit.normal.x;
       RTCHitN_Ng_y(hits, args->N, i) = hit.normal.y;
       RTCHitN_Ng_z(hits, args->N, i) = hit.normal.z;
@@ -179,12 +219,14 @@ private:
   static void occludedCallback(const RTCOccludedFunctionNArguments* args)
   {
     const auto* self = static_cast<const Derived*>(args->geometryUserPtr);
+    const auto* trace = reinterpret_cast<const TraceContext*>(args->context);
+    DoubleRay scratch;
     for (unsigned i = 0; i < args->N; ++i)
     {
       if (args->valid[i] != -1)
         continue;
       SurfaceHit hit;
-      if (self->intersect(args->primID, loadRay(args->ray, args->N, i), hit))
+      if (self->intersect(args->primID, loadRay(trace, args->ray, args->N, i, scratch), hit))
         RTCRayN_tfar(args->ray, args->N, i) = -kInfinity;
     }
   }

@@ -51,12 +51,15 @@ std::uint32_t hashPixel(std::uint32_t x, std::uint32_t y, std::uint32_t seed)
 }
 
 /// Unshadowed fraction of each light at a surface point (scene coordinates).
-void lightVisibility(const FrameContext& frame, const dvec3& point, const vec3& objectNormal,
-  const vec3& worldNormal, int px, int py, float* visibility, std::size_t& shadowRays)
+void lightVisibility(const FrameContext& frame, const dvec3& point, double hitDistance,
+  const vec3& objectNormal, const vec3& worldNormal, int px, int py, float* visibility,
+  std::size_t& shadowRays)
 {
   const ShadowOptions& shadows = frame.options.shadows;
-  // Leave the surface along the normal by a little more than the hit point's rounding error.
-  const double offset = 1e-5 * (glm::length(point) + 1.0);
+  // Leave the surface along the normal by a little more than the hit point's error: the hit is
+  // computed in double along the double ray, so that error scales with the distance travelled,
+  // not with how far the point is from the origin (double's rounding of it is the last term).
+  const double offset = 1e-5 * (hitDistance + 1.0) + 1e-14 * glm::length(point);
   const dvec3 origin = point + offset * dvec3(objectNormal);
   const std::size_t lights = std::min<std::size_t>(frame.lighting.lights.size(), kMaxShadowedLights);
   for (std::size_t i = 0; i < lights; ++i)
@@ -69,13 +72,10 @@ void lightVisibility(const FrameContext& frame, const dvec3& point, const vec3& 
     }
     auto blocked = [&](const vec3& worldDirection)
     {
-      Ray ray;
-      ray.origin = vec3(origin);
-      ray.direction = frame.identityTransform
-        ? worldDirection
-        : vec3(glm::normalize(frame.worldToObjectDirection * dvec3(worldDirection)));
-      ray.tnear = 0.0f;
-      ray.tfar = kInfinity;
+      const DoubleRay ray(origin,
+        frame.identityTransform ? dvec3(worldDirection)
+                                : glm::normalize(frame.worldToObjectDirection * dvec3(worldDirection)),
+        0.0, kInfinity);
       ++shadowRays;
       return frame.scene.occluded(ray);
     };
@@ -154,12 +154,12 @@ ShadingFrame orientNormal(const FrameContext& frame, vec3 objectNormal, const ve
 /// farther is visited. Each segment collects every solid overlapping it (their intervals are
 /// not clipped), so the union's surfaces inside the segment are exact; a solid spanning two
 /// segments is seen in both, and only surfaces within each segment's range are drawn.
-float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& color, PixelScratch& scratch)
+double compositeTranslucent(const FrameContext& frame, const DoubleRay& ray, vec4& color, PixelScratch& scratch)
 {
   const EmbreeScene& scene = *frame.options.translucent.scene;
   vec3 premultiplied(0.0f);
   float alpha = 0.0f;
-  float nearest = kInfinity;
+  double nearest = kInfinity;
   bool saturated = false;
   // Segments start where the ray enters the scene's box, not at the near plane.
   double segmentStart = ray.tnear, rayEnd = ray.tfar;
@@ -182,15 +182,15 @@ float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& colo
   if (!(segmentStart <= rayEnd))
     return kInfinity;
   // Back off by the merge gap so a surface right at the box's face is not lost.
-  segmentStart = std::max(double(ray.tnear), segmentStart - frame.unionGap);
-  rayEnd = std::min(double(ray.tfar), rayEnd + frame.unionGap);
+  segmentStart = std::max(ray.tnear, segmentStart - frame.unionGap);
+  rayEnd = std::min(ray.tfar, rayEnd + frame.unionGap);
   double segmentLength = frame.translucentSegment;
   while (!saturated && segmentStart < rayEnd)
   {
-    Ray segment = ray;
-    segment.tnear = float(segmentStart);
+    DoubleRay segment = ray;
+    segment.tnear = segmentStart;
     const double segmentEnd = std::min(rayEnd, segmentStart + segmentLength);
-    segment.tfar = float(segmentEnd);
+    segment.tfar = segmentEnd;
     scratch.intervals.clear();
     scene.insideIntervals(segment, scratch.intervals);
     // unionSurfaces takes the open range (tnear, tfar): a surface exactly at a segment's end
@@ -202,8 +202,8 @@ float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& colo
     for (const UnionSurface& surface : scratch.surfaces)
     {
       const Geometry& geometry = scene.geometry(surface.geometry);
-      const vec3 point = vec3(dvec3(ray.origin) + surface.t * dvec3(ray.direction));
-      const ShadingFrame s = orientNormal(frame, geometry.partNormal(surface.part, point), ray.direction);
+      const ShadingFrame s =
+        orientNormal(frame, geometry.partNormal(surface.part, ray.at(surface.t)), vec3(ray.direction));
       const Material& m = geometry.material;
       vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
       if (geometry.hasPrimitiveColors())
@@ -211,7 +211,7 @@ float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& colo
       const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
       premultiplied += (1.0f - alpha) * m.opacity * rgb;
       alpha += (1.0f - alpha) * m.opacity;
-      nearest = std::min(nearest, float(surface.t));
+      nearest = std::min(nearest, surface.t);
       ++scratch.translucentSurfaces;
       if (alpha >= frame.options.translucent.saturation)
       {
@@ -235,17 +235,17 @@ float compositeTranslucent(const FrameContext& frame, const Ray& ray, vec4& colo
 /// Traces the primary ray of pixel (x, y); returns whether it hit an opaque surface.
 bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, PixelScratch& scratch)
 {
-  Ray ray = frame.camera.primaryRay(x + 0.5, y + 0.5);
+  DoubleRay ray = frame.camera.doublePrimaryRay(x + 0.5, y + 0.5);
   const std::size_t i = fb.index(x, y);
   if (frame.options.depthLimit)
   {
     // Stop at opaque geometry drawn by someone else (direction is unit: t is a distance).
     const float limit = (*frame.options.depthLimit)[i];
     if (limit < 1.0f)
-      ray.tfar = float(frame.camera.primaryRayParameterAt(x + 0.5, y + 0.5, limit));
+      ray.tfar = frame.camera.primaryRayParameterAt(x + 0.5, y + 0.5, limit);
   }
-  RTCRayHit rh = makeRayHit(ray);
-  const bool hit = !frame.scene.empty() && frame.scene.intersect(rh, true);
+  SceneHit sceneHit;
+  const bool hit = !frame.scene.empty() && frame.scene.intersect(ray, sceneHit, true);
   const VolumeOptions& volumes = frame.options.volumes;
   const bool withVolumes = volumes.scene && !volumes.scene->empty();
   const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
@@ -254,30 +254,30 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
 
   const double worldScale = frame.identityTransform
     ? 1.0
-    : glm::length(glm::dmat3(frame.objectToWorld) * dvec3(ray.direction));
+    : glm::length(glm::dmat3(frame.objectToWorld) * ray.direction);
   vec4 color(0.0f);
-  float depthT = kInfinity;
+  double depthT = kInfinity;
   if (hit)
   {
-    const Geometry& geometry = frame.scene.geometry(rh.hit.geomID);
-    const float t = rh.ray.tfar;
-    const dvec3 hitObject = dvec3(ray.origin) + double(t) * dvec3(ray.direction);
-    const ShadingFrame s = orientNormal(frame, vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), ray.direction);
+    const Geometry& geometry = frame.scene.geometry(sceneHit.geomID);
+    const double t = sceneHit.t;
+    const dvec3 hitObject = ray.at(t);
+    const ShadingFrame s = orientNormal(frame, sceneHit.normal, vec3(ray.direction));
     const Material& m = geometry.material;
     vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
     if (geometry.hasPrimitiveColors())
-      ambientColor = diffuseColor = geometry.surfaceColor(rh.hit.primID, vec3(hitObject));
+      ambientColor = diffuseColor = geometry.surfaceColor(sceneHit.primID, hitObject);
     float visibility[kMaxShadowedLights];
     const bool shadowed = frame.options.shadows.mode != ShadowMode::None && !frame.lighting.lights.empty();
     if (shadowed)
-      lightVisibility(frame, hitObject, s.objectNormal, s.normal, x, y, visibility, scratch.shadowRays);
+      lightVisibility(frame, hitObject, t, s.objectNormal, s.normal, x, y, visibility, scratch.shadowRays);
     const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting,
       shadowed ? visibility : nullptr);
     color = vec4(rgb, m.opacity);
     depthT = t;
   }
-  Ray segment = ray;
-  segment.tfar = hit ? rh.ray.tfar : ray.tfar;
+  DoubleRay segment = ray;
+  segment.tfar = hit ? sceneHit.t : ray.tfar;
   if (withVolumes)
   {
     float entry = kInfinity;
@@ -289,7 +289,7 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
         color = vec4(transmittance * vec3(color) + (1.0f - transmittance) * volumes.emission, color.a);
       else
         color = vec4(volumes.emission, 1.0f - transmittance);
-      depthT = std::min(depthT, entry); // the volume's front, so it composites with GL geometry
+      depthT = std::min(depthT, double(entry)); // the volume's front, so it composites with GL geometry
     }
   }
   if (withTranslucent)
@@ -297,7 +297,7 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
   if (!(depthT < kInfinity))
     return false;
 
-  const dvec3 depthPoint = dvec3(ray.origin) + double(depthT) * dvec3(ray.direction);
+  const dvec3 depthPoint = ray.at(depthT);
   fb.Color[i] = color;
   fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(depthPoint), 0.0, 1.0));
   // t is in the scene's units; the framebuffer keeps world distances.
@@ -328,7 +328,9 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     const Box3 box = translucent->bounds();
     translucentBounds = box;
     const double diagonal = glm::length(box.upper - box.lower);
-    unionGap = 1e-7 * (diagonal + glm::length(box.upper) + glm::length(box.lower));
+    // Interval ends come from double rays in each primitive's frame: their rounding scales with
+    // the scene's size, not its distance from the origin (the small second term is double's).
+    unionGap = 2e-7 * diagonal + 1e-14 * (glm::length(box.upper) + glm::length(box.lower));
     // A first segment of 1/64 of the scene: dense scenes saturate within a few segments, and
     // a ray through the whole scene costs log2(64) + 1 extra traversals at most.
     translucentSegment = std::max(diagonal / 32.0, 1e-30);

@@ -57,10 +57,10 @@ Box3 EllipsoidSet::bounds(unsigned primitive) const
   const Ellipsoid& e = Ellipsoids[primitive];
   // One part in 10^6 of padding absorbs float rounding of the box.
   const vec3 h = e.halfExtent * 1.000001f;
-  return Box3{ vec3(e.center) - h, vec3(e.center) + h };
+  return Box3{ vec3(e.center - dvec3(h)), vec3(e.center + dvec3(h)) };
 }
 
-bool EllipsoidSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const
+bool EllipsoidSet::intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const
 {
   // In the unit sphere's frame the ray is o' + t d' with the same t; solve |o' + t d'|^2 = 1
   // with the cancellation-free discriminant (the line's distance from the centre).
@@ -81,7 +81,7 @@ bool EllipsoidSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit
   double t = t0 > double(ray.tnear) ? t0 : t1;
   if (!(t > double(ray.tnear)) || !(t < double(ray.tfar)))
     return false;
-  hit.t = float(t);
+  hit.t = t;
   // The sphere's normal u maps to M^-T u.
   hit.normal = vec3(glm::transpose(e.inverse) * (o + t * d));
   return true;
@@ -91,6 +91,21 @@ vec3 EllipsoidSet::primitiveColor(unsigned primitive) const
 {
   const std::uint32_t c = Colors[primitive];
   return vec3(float(c & 0xffu), float((c >> 8) & 0xffu), float((c >> 16) & 0xffu)) / 255.0f;
+}
+
+EllipsoidSet::EllipsoidSet(const dvec3& origin, const std::vector<vec3>& centers,
+  const std::vector<dmat3>& axes, const std::vector<std::uint32_t>& colors)
+  : EllipsoidSet(centers, axes, colors)
+{
+  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
+    throw std::invalid_argument("sightline::EllipsoidSet: the origin must be finite");
+  // Centres are double already: move them, and the boxes with them.
+  AllBounds = Box3{};
+  for (unsigned i = 0; i < Ellipsoids.size(); ++i)
+  {
+    Ellipsoids[i].center += origin;
+    AllBounds.extend(bounds(i));
+  }
 }
 
 std::size_t EllipsoidSet::memoryBytes() const

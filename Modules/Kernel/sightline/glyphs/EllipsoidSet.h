@@ -21,6 +21,10 @@ public:
   /// in report(); size mismatches throw std::invalid_argument.
   EllipsoidSet(const std::vector<vec3>& centers, const std::vector<dmat3>& axes,
     const std::vector<std::uint32_t>& colors = {});
+  /// The same with the centres given relative to `origin` (kept in double), for ellipsoids far
+  /// from the world origin: they are intersected in their own frame with double rays.
+  EllipsoidSet(const dvec3& origin, const std::vector<vec3>& centers, const std::vector<dmat3>& axes,
+    const std::vector<std::uint32_t>& colors = {});
 
   std::size_t size() const override { return Ellipsoids.size(); }
   bool hasPrimitiveColors() const override { return !Colors.empty(); }
@@ -29,7 +33,7 @@ public:
   Box3 bounds() const override { return AllBounds; }
 
   Box3 bounds(unsigned primitive) const;
-  bool intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const;
+  bool intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const;
 
   const ValidationReport& report() const { return Report; }
   const std::vector<std::uint32_t>& sourceIndex() const { return SourceIndex; }

@@ -194,6 +194,25 @@ void SHGlyphSet::finish()
     AllBounds.extend(glyph.box);
 }
 
+SHGlyphSet::SHGlyphSet(const dvec3& origin, const std::vector<vec3>& centers,
+  const std::vector<float>& coefficients, int order, const SHGlyphOptions& options,
+  const std::vector<float>& scales, const std::vector<std::uint32_t>& colors,
+  const std::vector<vec3>& halfExtents)
+  : SHGlyphSet(centers, coefficients, order, options, scales, colors, halfExtents)
+{
+  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
+    throw std::invalid_argument("sightline::SHGlyphSet: the origin must be finite");
+  // Centres are double already: move them, and the boxes with them.
+  AllBounds = Box3{};
+  for (Glyph& glyph : Glyphs)
+  {
+    glyph.center += origin;
+    glyph.box.lower = vec3(glyph.center - dvec3(glyph.halfExtents));
+    glyph.box.upper = vec3(glyph.center + dvec3(glyph.halfExtents));
+    AllBounds.extend(glyph.box);
+  }
+}
+
 double shMaxAmplitude(int order, const float* coefficients, const SHConvention& convention)
 {
   if (order < 0 || order > kMaxSHOrder || order % 2 != 0)
@@ -220,7 +239,7 @@ vec3 SHGlyphSet::primitiveColor(unsigned primitive) const
   return Colors.empty() ? material.color : unpackRGB(Colors[primitive]);
 }
 
-vec3 SHGlyphSet::surfaceColor(unsigned primitive, const vec3& point) const
+vec3 SHGlyphSet::surfaceColor(unsigned primitive, const dvec3& point) const
 {
   const Glyph& glyph = Glyphs[primitive];
   const dvec3 p = dvec3(point) - glyph.center;
@@ -254,10 +273,10 @@ std::size_t SHGlyphSet::memoryBytes() const
     SourceIndex.capacity() * sizeof(std::uint32_t);
 }
 
-int SHGlyphSet::exactIntersections(const Glyph& glyph, const Ray& ray, double* t, bool firstOnly) const
+int SHGlyphSet::exactIntersections(const Glyph& glyph, const DoubleRay& ray, double* t, bool firstOnly) const
 {
-  // The glyph's frame: origin relative to the centre in double (the camera may be far away),
-  // then the arithmetic chosen for this glyph.
+  // The glyph's frame: the double ray's origin relative to the centre (the glyph may be far
+  // from the world origin), then the arithmetic chosen for this glyph.
   const dvec3 o = dvec3(ray.origin) - glyph.center;
   const dvec3 d = dvec3(ray.direction);
   const double length = glm::length(d);
@@ -311,7 +330,7 @@ int SHGlyphSet::exactIntersections(const Glyph& glyph, const Ray& ray, double* t
   return count;
 }
 
-int SHGlyphSet::marchingIntersection(const Glyph& glyph, const Ray& ray, double& tHit) const
+int SHGlyphSet::marchingIntersection(const Glyph& glyph, const DoubleRay& ray, double& tHit) const
 {
   const double* b = DoubleCoefficients.data() + glyph.offset;
   const dvec3 o = dvec3(ray.origin) - glyph.center;
@@ -363,7 +382,7 @@ int SHGlyphSet::marchingIntersection(const Glyph& glyph, const Ray& ray, double&
   return 0;
 }
 
-int SHGlyphSet::tensorMethodIntersection(unsigned primitive, const Ray& ray, double& tHit) const
+int SHGlyphSet::tensorMethodIntersection(unsigned primitive, const DoubleRay& ray, double& tHit) const
 {
   // The seed's frame: glyph at the origin, lengths divided by the bounding radius.
   const Glyph& glyph = Glyphs[primitive];
@@ -385,7 +404,7 @@ int SHGlyphSet::tensorMethodIntersection(unsigned primitive, const Ray& ray, dou
   return 1;
 }
 
-bool SHGlyphSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const
+bool SHGlyphSet::intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const
 {
   const Glyph& glyph = Glyphs[primitive];
   double t[kMaxGlyphHits];
@@ -413,17 +432,17 @@ bool SHGlyphSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) 
   if (chosen >= count || !(t[chosen] > double(ray.tnear)) || !(t[chosen] < double(ray.tfar)))
     return false;
   const dvec3 p = dvec3(ray.origin) - glyph.center + t[chosen] * dvec3(ray.direction);
-  hit.t = float(t[chosen]);
+  hit.t = t[chosen];
   hit.normal = vec3(shGlyphNormal(glyph.order, coefficients(primitive), p));
   return true;
 }
 
-int SHGlyphSet::allIntersections(unsigned primitive, const Ray& ray, double* t) const
+int SHGlyphSet::allIntersections(unsigned primitive, const DoubleRay& ray, double* t) const
 {
   return exactIntersections(Glyphs[primitive], ray, t, false);
 }
 
-double SHGlyphSet::insideLength(unsigned primitive, const Ray& ray, float& entry) const
+double SHGlyphSet::insideLength(unsigned primitive, const DoubleRay& ray, float& entry) const
 {
   const Glyph& glyph = Glyphs[primitive];
   double roots[kMaxGlyphHits + 2];

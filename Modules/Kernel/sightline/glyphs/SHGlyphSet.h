@@ -107,6 +107,11 @@ public:
   SHGlyphSet(const std::vector<vec3>& centers, const std::vector<float>& coefficients, int order,
     const SHGlyphOptions& options = {}, const std::vector<float>& scales = {},
     const std::vector<std::uint32_t>& colors = {}, const std::vector<vec3>& halfExtents = {});
+  /// The same with the centres given relative to `origin` (kept in double), for glyphs far
+  /// from the world origin: they are intersected in their own frame with double rays.
+  SHGlyphSet(const dvec3& origin, const std::vector<vec3>& centers, const std::vector<float>& coefficients,
+    int order, const SHGlyphOptions& options = {}, const std::vector<float>& scales = {},
+    const std::vector<std::uint32_t>& colors = {}, const std::vector<vec3>& halfExtents = {});
 
   /// Glyphs that SHGlyphPreparation made ready (canonical, turned, trimmed, boxed): nothing
   /// is converted again; `centers` has one world centre per prepared glyph and `colors` is
@@ -122,19 +127,19 @@ public:
     return Options.coloring != SHColoring::Material || Options.negativeLobeColor.x >= 0.0f;
   }
   vec3 primitiveColor(unsigned primitive) const override;
-  vec3 surfaceColor(unsigned primitive, const vec3& point) const override;
+  vec3 surfaceColor(unsigned primitive, const dvec3& point) const override;
   std::size_t memoryBytes() const override;
   Box3 bounds() const override { return AllBounds; }
-  double insideLength(unsigned primitive, const Ray& ray, float& entry) const override;
+  double insideLength(unsigned primitive, const DoubleRay& ray, float& entry) const override;
 
   Box3 bounds(unsigned primitive) const { return Glyphs[primitive].box; }
   /// Half-extents of a glyph's box around its centre (to cache, see the constructor).
   vec3 halfExtents(unsigned primitive) const { return Glyphs[primitive].halfExtents; }
-  bool intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const;
+  bool intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const;
 
   /// All intersections of a ray with one glyph in [ray.tnear, ray.tfar], ascending; returns
   /// their number (t has room for kMaxGlyphHits).
-  int allIntersections(unsigned primitive, const Ray& ray, double* t) const;
+  int allIntersections(unsigned primitive, const DoubleRay& ray, double* t) const;
 
   const ValidationReport& report() const { return Report; }
   const std::vector<std::uint32_t>& sourceIndex() const { return SourceIndex; }
@@ -173,9 +178,9 @@ private:
   /// Boxes (computed where missing) and the set's bounds, after the last addGlyph.
   void finish();
 
-  int exactIntersections(const Glyph& glyph, const Ray& ray, double* t, bool firstOnly) const;
-  int marchingIntersection(const Glyph& glyph, const Ray& ray, double& t) const;
-  int tensorMethodIntersection(unsigned primitive, const Ray& ray, double& t) const;
+  int exactIntersections(const Glyph& glyph, const DoubleRay& ray, double* t, bool firstOnly) const;
+  int marchingIntersection(const Glyph& glyph, const DoubleRay& ray, double& t) const;
+  int tensorMethodIntersection(unsigned primitive, const DoubleRay& ray, double& t) const;
 
   SHGlyphOptions Options;
   std::vector<Glyph> Glyphs;

@@ -4,6 +4,8 @@
 #include <glm/glm.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace sightline
@@ -34,6 +36,32 @@ struct Ray
   float tfar = kInfinity;
 };
 
+/// The same ray in double precision: what primary, shadow and volume rays are generated in and
+/// what primitives intersect, so that a ray far from the world origin keeps the precision it
+/// has relative to the primitives it meets (float would round its origin by 2^-24 |origin|).
+/// Converts implicitly from Ray (the float ray's exact value).
+struct DoubleRay
+{
+  dvec3 origin{ 0.0 };
+  dvec3 direction{ 0.0, 0.0, -1.0 };
+  double tnear = 0.0;
+  double tfar = std::numeric_limits<double>::infinity();
+
+  DoubleRay() = default;
+  DoubleRay(const dvec3& o, const dvec3& d, double near, double far)
+    : origin(o), direction(d), tnear(near), tfar(far)
+  {
+  }
+  DoubleRay(const Ray& ray) // NOLINT(google-explicit-constructor): every float ray is exact in double
+    : origin(ray.origin), direction(ray.direction), tnear(ray.tnear), tfar(ray.tfar)
+  {
+  }
+  dvec3 at(double t) const { return origin + t * direction; }
+  /// The float rounding (for Embree's traversal and callers of the float API); the interval
+  /// only widens, so no point of the double ray's segment is cut off.
+  Ray rounded() const;
+};
+
 /// Axis-aligned box; an empty box has lower > upper.
 struct Box3
 {
@@ -52,6 +80,37 @@ struct Box3
   }
   bool empty() const { return lower.x > upper.x || lower.y > upper.y || lower.z > upper.z; }
 };
+
+/// The smallest float >= x (largest <= x): conservative bounds and ray intervals. Inline bit
+/// steps rather than std::nextafter, a library call, since rays are rounded once per trace.
+inline float floatAtLeast(double x)
+{
+  float f = float(x);
+  if (double(f) < x) // f is finite here: x > f >= -FLT_MAX
+  {
+    if (f == 0.0f)
+      return std::numeric_limits<float>::denorm_min();
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = f > 0.0f ? bits + 1 : bits - 1;
+    std::memcpy(&f, &bits, sizeof f);
+  }
+  return f;
+}
+inline float floatAtMost(double x)
+{
+  return -floatAtLeast(-x);
+}
+
+inline Ray DoubleRay::rounded() const
+{
+  Ray ray;
+  ray.origin = vec3(origin);
+  ray.direction = vec3(direction);
+  ray.tnear = floatAtMost(tnear);
+  ray.tfar = floatAtLeast(tfar);
+  return ray;
+}
 
 inline bool isFinite(const vec3& v)
 {

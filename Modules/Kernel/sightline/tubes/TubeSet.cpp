@@ -140,6 +140,19 @@ TubeSet::TubeSet(const std::vector<vec3>& points, const std::vector<float>& radi
     AllBounds.extend(bounds(i));
 }
 
+TubeSet::TubeSet(const dvec3& origin, const std::vector<vec3>& points, const std::vector<float>& radii,
+  const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors,
+  TubeLayout layout)
+  : TubeSet(points, radii, predecessors, colors, layout)
+{
+  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
+    throw std::invalid_argument("sightline::TubeSet: the origin must be finite");
+  Origin = origin;
+  AllBounds = Box3{};
+  for (unsigned i = 0; i < size(); ++i)
+    AllBounds.extend(bounds(i));
+}
+
 std::uint32_t TubeSet::nodeOf(unsigned primitive) const
 {
   return primitive < Nodes.size() ? primitive : StumpEnds[primitive - Nodes.size()];
@@ -193,16 +206,16 @@ Box3 TubeSet::bounds(unsigned primitive) const
   const vec3 pad = 1e-6f * (glm::abs(box.lower) + glm::abs(box.upper) + vec3(1e-30f));
   box.lower -= pad;
   box.upper += pad;
-  return box;
+  return Box3{ vec3(Origin + dvec3(box.lower)), vec3(Origin + dvec3(box.upper)) };
 }
 
-bool TubeSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const
+bool TubeSet::intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const
 {
   // The nearest surface of the primitive's sphere and stump in (tnear, tfar): an interval's
-  // entry, or its exit when the ray starts inside.
+  // entry, or its exit when the ray starts inside. In the set's frame (t is the same there).
   const std::uint32_t node = nodeOf(primitive);
-  const dvec3 o(ray.origin), d(ray.direction);
-  const double tmin = ray.tnear, tmax = std::min(double(ray.tfar), 1e300);
+  const dvec3 o = ray.origin - Origin, d = ray.direction;
+  const double tmin = ray.tnear, tmax = std::min(ray.tfar, 1e300);
   double best = tmax;
   dvec3 normal(0.0);
   bool found = false;
@@ -231,16 +244,16 @@ bool TubeSet::intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) con
   }
   if (!found || !(best < tmax))
     return false;
-  hit.t = float(best);
+  hit.t = best;
   hit.normal = vec3(normal);
   return true;
 }
 
-void TubeSet::insideIntervals(unsigned primitive, const Ray& ray, std::vector<InsideInterval>& out) const
+void TubeSet::insideIntervals(unsigned primitive, const DoubleRay& ray, std::vector<InsideInterval>& out) const
 {
   // The whole line (t_r0 = -inf, Section 4.3.1), so a ray starting inside a tube knows it.
   const std::uint32_t node = nodeOf(primitive);
-  const dvec3 o(ray.origin), d(ray.direction);
+  const dvec3 o = ray.origin - Origin, d = ray.direction;
   double t0, t1;
   if (primitive < Nodes.size() &&
     sphereInterval(dvec3(vec3(Nodes[node])), Nodes[node].w, o, d, -1e300, 1e300, t0, t1))
@@ -253,12 +266,13 @@ void TubeSet::insideIntervals(unsigned primitive, const Ray& ray, std::vector<In
   }
 }
 
-vec3 TubeSet::partNormal(std::uint32_t part, const vec3& point) const
+vec3 TubeSet::partNormal(std::uint32_t part, const dvec3& point) const
 {
   const std::uint32_t node = part / 2;
+  const dvec3 local = point - Origin;
   if (part % 2 == 0)
-    return point - vec3(Nodes[node]);
-  return vec3(coneStumpNormal(stumpOf(node), dvec3(point)));
+    return vec3(local - dvec3(vec3(Nodes[node])));
+  return vec3(coneStumpNormal(stumpOf(node), local));
 }
 
 vec3 TubeSet::partColor(std::uint32_t part) const

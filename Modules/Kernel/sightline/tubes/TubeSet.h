@@ -55,24 +55,32 @@ public:
   TubeSet(const std::vector<vec3>& points, const std::vector<float>& radii,
     const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors = {},
     TubeLayout layout = {});
+  /// The same with the points given relative to `origin`, kept in double: tubes far from the
+  /// world origin keep float precision relative to the set's extent and are intersected with
+  /// double rays in that frame.
+  TubeSet(const dvec3& origin, const std::vector<vec3>& points, const std::vector<float>& radii,
+    const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors = {},
+    TubeLayout layout = {});
 
   std::size_t size() const override { return Nodes.size() + StumpEnds.size(); }
   bool hasPrimitiveColors() const override { return !Colors.empty(); }
   vec3 primitiveColor(unsigned primitive) const override;
   std::size_t memoryBytes() const override;
   Box3 bounds() const override { return AllBounds; }
-  void insideIntervals(unsigned primitive, const Ray& ray, std::vector<InsideInterval>& out) const override;
-  vec3 partNormal(std::uint32_t part, const vec3& point) const override;
+  void insideIntervals(unsigned primitive, const DoubleRay& ray, std::vector<InsideInterval>& out) const override;
+  vec3 partNormal(std::uint32_t part, const dvec3& point) const override;
   vec3 partColor(std::uint32_t part) const override;
 
   Box3 bounds(unsigned primitive) const;
-  bool intersect(unsigned primitive, const Ray& ray, SurfaceHit& hit) const;
+  bool intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const;
 
   const TubeLayout& layout() const { return Layout; }
   /// Control points kept (after dropping bad ones) and links between them.
   std::size_t pointCount() const { return Nodes.size(); }
   std::size_t linkCount() const { return Links; }
   const ValidationReport& report() const { return Report; }
+  /// What control points (and precomputed stumps) are relative to.
+  const dvec3& origin() const { return Origin; }
 
 private:
   /// Stump parameters in single precision (the precomputed layouts).
@@ -85,7 +93,8 @@ private:
   std::uint32_t nodeOf(unsigned primitive) const;
 
   TubeLayout Layout;
-  std::vector<vec4> Nodes;                 ///< kept control points: position and radius
+  dvec3 Origin{ 0.0 };
+  std::vector<vec4> Nodes;                 ///< kept control points: position (from Origin), radius
   std::vector<std::int32_t> Predecessors;  ///< kept index of each node's predecessor, or -1
   std::vector<std::uint32_t> StumpEnds;    ///< separate layout: end node of each stump primitive
   std::vector<StoredStump> Stumps;         ///< precomputed: one per node (combined) or stump

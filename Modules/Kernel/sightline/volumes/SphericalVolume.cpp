@@ -120,8 +120,11 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
         for (int y = rows.begin(); y < rows.end(); ++y)
           for (int x = 0; x < camera.width(); ++x)
           {
-            const Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
-            const dvec3 o(ray.origin), d(ray.direction);
+            // The exact pixel ray: a float one is off by 2^-24 of its origin's distance, which
+            // rays tangent to a shell turn into relative errors of 1e-3 in optical depth.
+            const DoubleRay ray = camera.doublePrimaryRay(x + 0.5, y + 0.5);
+            const dvec3& o = ray.origin;
+            const dvec3& d = ray.direction;
             double tmax = ray.tfar;
             const std::size_t i = framebuffer.index(x, y);
             if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
@@ -471,7 +474,7 @@ void shadeCells(const std::vector<dvec3>& centres, const std::vector<dvec3>& gra
       const dvec4 clip = camera.worldToClip() * dvec4(centres[c], 1.0);
       const double px = (clip.x / clip.w * 0.5 + 0.5) * camera.width();
       const double py = (clip.y / clip.w * 0.5 + 0.5) * camera.height();
-      const vec3 toViewer = -glm::normalize(camera.primaryRay(px, py).direction);
+      const vec3 toViewer = -vec3(camera.doublePrimaryRay(px, py).direction);
       vec3 normal = vec3(g / length);
       if (glm::dot(normal, toViewer) < 0.0f)
         normal = -normal; // two-sided, as VTK's volume shading

@@ -14,6 +14,8 @@
 #include "sightline/core/Geometry.h"
 
 #include <algorithm>
+#include <limits>
+#include <cmath>
 
 namespace SightlineKernelConversions
 {
@@ -204,5 +206,27 @@ std::function<bool(double)> ProgressCallback(vtkAlgorithm* algorithm)
     algorithm->UpdateProgress(fraction);
     return !algorithm->GetAbortExecute();
   };
+}
+//------------------------------------------------------------------------------
+sightline::dvec3 ToLocalFrame(
+  const std::vector<sightline::dvec3>& world, std::vector<sightline::vec3>& local)
+{
+  sightline::dvec3 lower(std::numeric_limits<double>::infinity());
+  sightline::dvec3 upper(-std::numeric_limits<double>::infinity());
+  for (const sightline::dvec3& p : world)
+  {
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+    {
+      lower = glm::min(lower, p);
+      upper = glm::max(upper, p);
+    }
+  }
+  const sightline::dvec3 origin = lower.x <= upper.x ? 0.5 * lower + 0.5 * upper : sightline::dvec3(0.0);
+  local.resize(world.size());
+  for (std::size_t i = 0; i < world.size(); ++i)
+  {
+    local[i] = sightline::vec3(world[i] - origin);
+  }
+  return origin;
 }
 } // namespace SightlineKernelConversions

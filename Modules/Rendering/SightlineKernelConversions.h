@@ -60,6 +60,14 @@ std::vector<std::uint32_t> PointColors(
 /// WarningEvent see them as they see the reporter's own warnings).
 void WarnAboutReport(vtkObject* reporter, const sightline::ValidationReport& report);
 
+/// Positions handed to a kernel set: the origin (in double) is the centre of the finite
+/// positions' bounding box, and `local` holds each position relative to it as floats, so the
+/// set keeps float precision relative to its own extent wherever the data sit in the world
+/// (the kernel intersects each primitive in its own frame with double rays). Non-finite
+/// positions stay non-finite, so the kernel drops and reports them as before.
+sightline::dvec3 ToLocalFrame(
+  const std::vector<sightline::dvec3>& world, std::vector<sightline::vec3>& local);
+
 /// A kernel progress callback that reports through `algorithm`'s ProgressEvent and stops
 /// when its AbortExecute is set.
 std::function<bool(double)> ProgressCallback(vtkAlgorithm* algorithm);

@@ -1,5 +1,7 @@
 #include "vtkSightlineGlyphMapper.h"
 
+#include "SightlineKernelConversions.h"
+
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkImageData.h"
@@ -77,8 +79,10 @@ public:
   bool MapColors(vtkSightlineGlyphMapper* self, vtkDataSet* input,
     const std::vector<std::size_t>& points, std::vector<std::uint32_t>& colors);
   /// Centres of the glyphs in world coordinates.
-  std::vector<sightline::vec3> Centers(vtkSightlineGlyphMapper* self, vtkDataSet* input,
-    const std::vector<std::size_t>& points) const;
+  /// World centres of the glyphs at `points` relative to the returned origin (see
+  /// SightlineKernelConversions::ToLocalFrame).
+  sightline::dvec3 Centers(vtkSightlineGlyphMapper* self, vtkDataSet* input,
+    const std::vector<std::size_t>& points, std::vector<sightline::vec3>& centers) const;
 };
 
 //------------------------------------------------------------------------------
@@ -497,10 +501,11 @@ void vtkSightlineGlyphMapper::ReportDroppedGlyphs(
 }
 
 //------------------------------------------------------------------------------
-std::vector<sightline::vec3> vtkSightlineGlyphMapper::vtkGlyphInternals::Centers(
-  vtkSightlineGlyphMapper* self, vtkDataSet* input, const std::vector<std::size_t>& points) const
+sightline::dvec3 vtkSightlineGlyphMapper::vtkGlyphInternals::Centers(vtkSightlineGlyphMapper* self,
+  vtkDataSet* input, const std::vector<std::size_t>& points,
+  std::vector<sightline::vec3>& centers) const
 {
-  std::vector<sightline::vec3> centers(points.size());
+  std::vector<sightline::dvec3> world(points.size());
   for (std::size_t g = 0; g < points.size(); ++g)
   {
     double p[4] = { 0.0, 0.0, 0.0, 1.0 };
@@ -509,9 +514,9 @@ std::vector<sightline::vec3> vtkSightlineGlyphMapper::vtkGlyphInternals::Centers
     {
       self->DataToWorldMatrix->MultiplyPoint(p, p);
     }
-    centers[g] = sightline::vec3(p[0], p[1], p[2]);
+    world[g] = sightline::dvec3(p[0], p[1], p[2]);
   }
-  return centers;
+  return SightlineKernelConversions::ToLocalFrame(world, centers);
 }
 
 //------------------------------------------------------------------------------
@@ -618,8 +623,9 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::MakeSHGlyphSet(
       : sightline::EnclosureArithmetic::ReducedAffine;
     options.subdivision.tolerance = this->SubdivisionTolerance;
   }
-  auto set = std::make_shared<sightline::SHGlyphSet>(
-    in.Centers(this, input, glyphs.points), glyphs, options, colors);
+  std::vector<sightline::vec3> centers;
+  const sightline::dvec3 origin = in.Centers(this, input, glyphs.points, centers);
+  auto set = std::make_shared<sightline::SHGlyphSet>(origin, centers, glyphs, options, colors);
   for (const std::string& reason : set->report().reasons)
   {
     vtkWarningMacro(<< (volume ? "Uncertainty glyphs: " : "") << reason << ".");
@@ -653,8 +659,9 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::MakeEllipsoidSet(
   {
     colors = ellipsoids.directionColors;
   }
-  auto set = std::make_shared<sightline::EllipsoidSet>(
-    in.Centers(this, input, ellipsoids.points), ellipsoids.axes, colors);
+  std::vector<sightline::vec3> centers;
+  const sightline::dvec3 origin = in.Centers(this, input, ellipsoids.points, centers);
+  auto set = std::make_shared<sightline::EllipsoidSet>(origin, centers, ellipsoids.axes, colors);
   for (const std::string& reason : set->report().reasons)
   {
     vtkWarningMacro(<< reason << ".");

@@ -43,14 +43,14 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSphereMapper::BuildGeometry()
     return nullptr;
   }
 
-  std::vector<sightline::vec3> centers(count);
+  std::vector<sightline::dvec3> world(count);
   vtkPoints* points = input->GetPoints();
   for (vtkIdType i = 0; i < count; ++i)
   {
-    double p[3];
-    points->GetPoint(i, p);
-    centers[i] = sightline::vec3(p[0], p[1], p[2]);
+    points->GetPoint(i, &world[i].x);
   }
+  std::vector<sightline::vec3> centers;
+  const sightline::dvec3 origin = SightlineKernelConversions::ToLocalFrame(world, centers);
 
   std::vector<float> radii;
   if (this->RadiusArrayName && *this->RadiusArrayName)
@@ -101,7 +101,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSphereMapper::BuildGeometry()
   }
 
   auto spheres = std::make_shared<sightline::SphereSet>(
-    centers, radii, static_cast<float>(this->Radius), colors);
+    origin, centers, radii, static_cast<float>(this->Radius), colors);
   SightlineKernelConversions::WarnAboutReport(this, spheres->report());
   return spheres;
 }

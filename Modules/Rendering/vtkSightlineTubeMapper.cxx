@@ -94,15 +94,14 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 
   // Control points and their predecessors: the input's points with the predecessor array, or a
   // copy of each polyline's points (a point may be interior to several polylines).
-  std::vector<sightline::vec3> points;
+  std::vector<sightline::dvec3> points;
   std::vector<float> radii;
   std::vector<std::int64_t> predecessors;
   std::vector<std::uint32_t> colors;
   auto add = [&](vtkIdType id, std::int64_t predecessor)
   {
-    double p[3];
-    input->GetPoint(id, p);
-    points.emplace_back(p[0], p[1], p[2]);
+    points.emplace_back();
+    input->GetPoint(id, &points.back().x);
     radii.push_back(radius[id]);
     predecessors.push_back(predecessor);
     if (!pointColors.empty())
@@ -188,7 +187,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
       : sightline::TubeLayout::Primitives::Combined;
     layout.transforms = this->LinkLayout % 2 == 1 ? sightline::TubeLayout::Transforms::Precomputed
                                                   : sightline::TubeLayout::Transforms::OnTheFly;
-    auto tubes = std::make_shared<sightline::TubeSet>(points, radii, predecessors, colors, layout);
+    std::vector<sightline::vec3> local;
+    const sightline::dvec3 origin = SightlineKernelConversions::ToLocalFrame(points, local);
+    auto tubes =
+      std::make_shared<sightline::TubeSet>(origin, local, radii, predecessors, colors, layout);
     SightlineKernelConversions::WarnAboutReport(this, tubes->report());
     this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
     return tubes;

@@ -200,6 +200,19 @@ SHGlyphSet::SHGlyphSet(const dvec3& origin, const std::vector<vec3>& centers,
   const std::vector<vec3>& halfExtents)
   : SHGlyphSet(centers, coefficients, order, options, scales, colors, halfExtents)
 {
+  moveTo(origin);
+}
+
+SHGlyphSet::SHGlyphSet(const dvec3& origin, const std::vector<vec3>& centers,
+  const PreparedSHGlyphs& glyphs, const SHGlyphOptions& options,
+  const std::vector<std::uint32_t>& colors)
+  : SHGlyphSet(centers, glyphs, options, colors)
+{
+  moveTo(origin);
+}
+
+void SHGlyphSet::moveTo(const dvec3& origin)
+{
   if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
     throw std::invalid_argument("sightline::SHGlyphSet: the origin must be finite");
   // Centres are double already: move them, and the boxes with them.

@@ -120,6 +120,9 @@ public:
   /// zero glyphs); only glyphs with non-finite centres are dropped and reported.
   SHGlyphSet(const std::vector<vec3>& centers, const PreparedSHGlyphs& glyphs,
     const SHGlyphOptions& options = {}, const std::vector<std::uint32_t>& colors = {});
+  /// The same with the centres relative to `origin` (kept in double).
+  SHGlyphSet(const dvec3& origin, const std::vector<vec3>& centers, const PreparedSHGlyphs& glyphs,
+    const SHGlyphOptions& options = {}, const std::vector<std::uint32_t>& colors = {});
 
   std::size_t size() const override { return Glyphs.size(); }
   bool hasPrimitiveColors() const override
@@ -177,6 +180,8 @@ private:
     const vec3& halfExtents, std::size_t index, const std::vector<std::uint32_t>& colors);
   /// Boxes (computed where missing) and the set's bounds, after the last addGlyph.
   void finish();
+  /// Moves every glyph by `origin` (the origin constructors' centres are relative to it).
+  void moveTo(const dvec3& origin);
 
   int exactIntersections(const Glyph& glyph, const DoubleRay& ray, double* t, bool firstOnly) const;
   int marchingIntersection(const Glyph& glyph, const DoubleRay& ray, double& t) const;

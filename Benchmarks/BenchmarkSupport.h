@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What every benchmark scene shares: options, images and their comparison, timing, the
 // machine description, and the results a scene hands back to the harness.
 #pragma once

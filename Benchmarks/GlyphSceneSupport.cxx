@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "GlyphSceneSupport.h"
 
 #include "sightline/core/Renderer.h"

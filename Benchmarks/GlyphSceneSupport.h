@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What the glyph scenes (sh-glyphs, tensor-glyphs, and in part sh-glyph-window) share: a slice of glyphs seen from above at
 // a tilt, one light, the glyph material, Embree scenes built per method, methods prepared and
 // then timed round robin, and the pixel and per-call measures their tables report.

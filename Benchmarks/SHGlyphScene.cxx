@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The SH glyph scene (Peters et al. 2023, Fig. 1 and Table 1): one slice of glyphs seen from
 // above, rendered through the kernel's Renderer and one Embree BVH per method
 // - exactly (Algorithm 1) with a converged reference (double, tolerance 1e-10) and the default;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The SH glyph window scene: what a VTK user experiences in a render window with one slice of
 // real fibre ODFs (scripts/make_sh_data.py's CSD of DIPY's small_64D, its fullest axial slice
 // tiled to side x side voxels; 140 x 140 = 19,600 glyphs by default), at k = 8 and at k = 4:

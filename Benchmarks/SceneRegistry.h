@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Named benchmark scenes. A scene registers a name and a function that renders it with every
 // method it knows (one of them the reference) for a given primitive count; the harness does
 // the rest (errors against the reference, images, CSV, table, plot). To add a scene, define

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // sightline-benchmark: runs named scenes with every rendering method they register, measures
 // build and frame times and the image error against the scene's reference method, and writes
 // <output>/<scene>.csv, PNG images of every method and (through plot_benchmarks.py) a plot.

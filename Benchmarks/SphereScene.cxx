@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The sphere scene: random spheres in a unit cube, rendered
 // - exactly by Sightline, GL-free (vtkSightlineImageRenderer) and in a window (vtkSightlineMapper);
 // - exactly by Embree's own sphere primitive (the reference image);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The spherical-grid scenes, after the thesis' Chapter 6 (Figures 6.11-6.14): projection
 // integrals (value x length summed along each ray, yt's ProjectionSampler) of analytic fields
 // sampled on grids of N breakpoints per axis, N = 8..256, each ray's error against the exact

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The tensor glyph scene (Hlawitschka et al., "higher-order tensor glyphs"): a slice of glyphs
 // of orders 4, 8 and 12 seen from above, rendered through the kernel's Renderer with one BVH per
 // method:

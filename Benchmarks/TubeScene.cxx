@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The generalized-tube scenes (Han et al. 2019), everything ray-traced through the kernel's
 // Renderer at the same camera, light and material, one BVH per method, timed round robin:
 // - "tubes": neuron assemblies (copies of a synthetic base neuron of ~2,000 links at random

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Plots the CSV files written by sightline-benchmark.
 
 For each <scene>.csv, writes <scene>.png next to it (or to --output): the median frame time

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Smoke test of sightline-benchmark (ctest: sightline-benchmark-smoke, labels benchmark;display,
 sightline-benchmark-smoke-sh-glyphs, label benchmark, and sightline-benchmark-smoke-sh-glyph-window,
 labels benchmark;display), and sightline-benchmark-smoke-tensor-glyphs, label benchmark.

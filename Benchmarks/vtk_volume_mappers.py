@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Emission-absorption images of a spherical grid through VTK's own volume mappers against
 Sightline's, each against the exact image (issue 6's benchmark, parts (a)-(c)).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Debian's OpenImageIO target lists /usr/include/opencv4 among its include directories even when
 # OpenCV's headers are not installed (OpenImageIO only needs them for its own OpenCV plugin).
 # Keep the directories that exist so CMake does not reject the target.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # One way to add a GoogleTest executable to CTest: sources, libraries, compile definitions,
 # labels and properties in one call, discovered test by test (gtest_discover_tests).
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Writes the seed corpora of the fuzz targets into OUT/{MIF,TCK,TrackVis,SWC} from real files:
 # nibabel's and DIPY's .trk/.tck files, Sightline's SWC test files, and small .mif/.mif.gz cut
 # by MRtrix3's mrconvert from SH_DATA/small_64D_sh_tournier07.mif (the SHData fixture) in every

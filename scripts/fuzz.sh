@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The longer fuzz campaign of the four readers (README "Reliability"): builds the libFuzzer
 # targets with clang, ASan and UBSan in $SIGHTLINE_FUZZ_BUILD_DIR (default build-fuzz), writes
 # the seed corpora from real files, then runs each target for RUNS executions (default 10^6) or

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs everything Sightline needs from Debian bookworm's packages.
 # Do not add paraview-dev or python3-paraview: they replace Debian's VTK 9.1.
 set -euo pipefail

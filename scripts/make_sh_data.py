@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Real spherical-harmonics (SH) test and showcase data from DIPY's shipped `small_64D` DWI.
 
 Usage: make_sh_data.py OUTPUT_DIR [--tile N] [--check]

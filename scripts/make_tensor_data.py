@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Real higher-order tensor test and showcase data from DIPY's shipped DWI `small_64D`.
 
 Usage: make_tensor_data.py OUTPUT_DIR [--check]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Sets up, builds, and runs Sightline's main job on data shipped with Debian: a slice of exact
 # SH glyphs from DIPY's small_64D diffusion data with soft shadows, DIPY's tractography bundles
 # as exact spheres (in a VTK window and without OpenGL), and higher-order tensor glyphs (a copper

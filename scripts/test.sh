@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Sets up, builds and runs the whole test suite (kernel, rendering, Python, examples,
 # install), then the sanitizer job: the kernel, the readers and the mappers built with clang,
 # AddressSanitizer and UndefinedBehaviorSanitizer in $SIGHTLINE_SANITIZE_BUILD_DIR (default

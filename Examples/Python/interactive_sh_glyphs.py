@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Interactive viewer for exact SH glyphs (sightline.vtkSightlineSHGlyphMapper) over an
 anatomical slice, in a VTK window with the trackball camera.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """A layered Earth ray-cast natively on its spherical grid.
 
 The density of the Preliminary Reference Earth Model (PREM: A. M. Dziewonski and D. L.

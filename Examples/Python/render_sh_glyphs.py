@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Exact spherical-harmonics glyphs (fibre ODFs) of a real diffusion MRI slice, ray-traced by
 sightline.vtkSightlineSHGlyphMapper, over an anatomical slice (FA or b0) drawn by an ordinary
 vtkImageSlice in the same window and with the same affine.

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Exact higher-order tensor glyphs ray-traced by sightline.vtkSightlineTensorGlyphMapper.
 
 Without --tensor: a copper polycrystal. Each grain is copper's published 4th-order stiffness

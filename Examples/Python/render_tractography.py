@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Sightline's main job on real data: the tractography bundles DIPY ships
 (minimal_bundles.zip: arcuate fasciculus, corticospinal tract and forceps major of five
 subjects), every streamline vertex drawn as an exact ray-traced sphere coloured by the local

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Generalized tubes on real tractography: DIPY's minimal_bundles.zip (arcuate fasciculus,
 corticospinal tract and forceps major of one subject), read with Sightline's TrackVis reader
 and drawn as exact tubes (spheres at the vertices joined by tangential cone stumps), coloured

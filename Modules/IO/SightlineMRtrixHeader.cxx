@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "SightlineMRtrixHeader.h"
 
 #include "SightlineReaderInput.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Private helper of vtkSightlineMIFReader and vtkSightlineTCKReader (not wrapped, not
 // installed): the MRtrix3 text header both formats share ("mrtrix image" / "mrtrix tracks",
 // "key: value" lines, "END"), its number lists, the `file: . OFFSET` entry and the datatype

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Private helpers of the Sightline::IO readers (not wrapped, not installed): where a reader's
 // bytes come from (a file or an in-memory copy of one) and how file content is quoted in
 // messages.

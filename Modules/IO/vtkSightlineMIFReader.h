@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineMIFReader
  * @brief   Reads MRtrix3 images (.mif, .mif.gz) into vtkImageData, e.g. SH coefficient volumes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineSWCReader
  * @brief   Reads SWC neuron morphologies (NeuroMorpho.Org, NEURON, Vaa3D) into vtkPolyData.

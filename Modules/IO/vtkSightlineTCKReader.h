@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineTCKReader
  * @brief   Reads MRtrix3 track files (.tck) into vtkPolyData polylines.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineTrackVisReader
  * @brief   Reads TrackVis streamlines (.trk, versions 1 and 2) into vtkPolyData polylines.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """NIfTI affines for images read with VTK's vtkNIFTIImageReader: the one place Sightline's
 examples and sightline-view decide where a NIfTI voxel lies in world (scanner) space.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """sightline-view: open a user's own files, see them.
 
   sightline-view FILE [FILE ...] [options]

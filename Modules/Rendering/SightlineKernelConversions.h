@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // VTK -> kernel conversions shared by every Sightline mapper: matrices, lights, materials,
 // mapped scalars, progress and the kernel's validation reports. The one place where VTK
 // objects become sightline:: values, so the window and GL-free paths convert alike.

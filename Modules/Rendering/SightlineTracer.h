@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The one interface through which Sightline props are traced, in a window
 // (SightlineWindowFrame) or without one (vtkSightlineImageRenderer). vtkSightlineMapper
 // (surfaces) and vtkSightlineSphericalVolumeMapper (volumes) implement it, so neither the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Draws a CPU-rendered frame (colour and window depth) into a VTK OpenGL window with a
 // full-viewport quad, and reads back the depth of what OpenGL has drawn so far: the same
 // contract as VTK's own CPU ray casters, opaque geometry first, depth-aware. OpenGL only; the

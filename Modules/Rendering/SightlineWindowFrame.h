@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The window side of every Sightline mapper: the one render loop that traces a prop at the
 // viewport's size (every InteractiveSubsampling-th pixel while the user drags), reads the depth
 // drawn before it when its pass needs it, reuses the last frame while nothing it depends on

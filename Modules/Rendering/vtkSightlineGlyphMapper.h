@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineGlyphMapper
  * @brief   Abstract superclass of the exact glyph mappers: which points become glyphs, where,

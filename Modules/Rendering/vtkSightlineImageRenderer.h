@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineImageRenderer
  * @brief   Renders Sightline actors straight to an image, without OpenGL or a window.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineMapper
  * @brief   Abstract mapper that ray-traces exact primitives into a VTK render window.

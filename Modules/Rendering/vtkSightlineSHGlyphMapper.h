@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineSHGlyphMapper
  * @brief   Ray-traces exact spherical-harmonics glyphs (fibre ODFs) from a coefficient array.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineSphereMapper
  * @brief   Ray-traces one exact sphere per input point.

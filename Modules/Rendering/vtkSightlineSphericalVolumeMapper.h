@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineSphericalVolumeMapper
  * @brief   Volume mapper that ray-casts spherical grids (r, theta, phi), and cylindrical ones,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineTensorGlyphMapper
  * @brief   Ray-traces exact higher-order tensor glyphs (orders 0 to 12) from a tensor array.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineTubeMapper
  * @brief   Ray-traces generalized tubes: spheres at the points joined by tangential cone stumps.

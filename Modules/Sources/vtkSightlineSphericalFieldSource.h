@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkSightlineSphericalFieldSource
  * @brief   Samples an analytic field or a layered Earth on a spherical grid.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // libFuzzer target for one Sightline::IO reader (SIGHTLINE_FUZZ_READER, set by CMake): the
 // input is a whole file, parsed from memory through SetInputString/ReadFromInputString.
 // Besides crashes, hangs, leaks and out-of-memory (libFuzzer, ASan, UBSan), it traps on

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineMIFReader against MRtrix3-written files and VTK's own NIfTI reader.
 //
 // The SHData fixture (scripts/make_sh_data.py) converts one tournier07 SH NIfTI with mrconvert

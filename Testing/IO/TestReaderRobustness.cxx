@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hostile input for the four readers, one test per class of failure found by mutating real
 // files: each must end in a clear error (or a warning where the valid part is kept), never a
 // crash, an abort, a huge allocation or silent garbage; and every message must be valid UTF-8

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineSWCReader on hand-written SWC files (Testing/Data/SWC) that cover what real
 // files do: comments and blank lines, NeuroMorpho's three-point soma, unsorted and
 // non-contiguous ids, parents after children, several roots, a childless root, zero radii,

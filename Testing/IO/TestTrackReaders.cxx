@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineTCKReader and vtkSightlineTrackVisReader on small files written here, in both
 // byte orders and both float widths, and on broken ones. Real files (nibabel's standard.trk,
 // standard.LPS.trk, standard.tck and DIPY's bundles) are compared with nibabel in

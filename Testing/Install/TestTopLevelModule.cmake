@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The top-level vtk.module names, under DEPENDS, exactly the modules found in Modules/*/vtk.module.
 function(read_module_file path out_name out_depends)
   file(STRINGS "${path}" lines)

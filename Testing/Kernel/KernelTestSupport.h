@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Independent references for the kernel tests: camera matrices written from the OpenGL formulas
 // (gluLookAt, glFrustum, glOrtho) in plain arrays rather than GLM, a long double linear solver for
 // unprojection, and a long double ray-sphere solution. Nothing here calls the kernel's maths.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The Earth example's scene: the graticule shows only what lies in front of the globe.
 
 Meridians on the far side used to show through the translucent limb, most visibly at the

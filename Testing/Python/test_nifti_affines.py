@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """sightline.nifti against nibabel, the reference for NIfTI affines: the affine it picks must
 equal nibabel's Nifti1Header.get_best_affine() (sform when sform_code > 0, else qform, else the
 base affine), on files constructed here for each case (with and without qfac -1, which makes

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """vtkSightlineSHGlyphMapper from Python, on real data (DIPY's small_64D CSD fit written by the
 SHData fixture into $SIGHTLINE_SH_DATA_DIR): import next to vtk, window and GL-free images
 agree, DIPY's and MRtrix3's bases give the same picture, bad input is reported and not fatal,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The sightline Python package as a VTK user meets it: import next to vtk, render spheres
 without a window and in one, check geometry against closed form, and get clear errors."""
 import math

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Spherical-grid volumes from Python: the source and the volume mapper wrapped in the sightline
 package, a projection-free check of the step function's shells through the GL-free renderer
 (opacity per pixel against sphere chords), numpy input with degrees and latitude, and errors."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """vtkSightlineTensorGlyphMapper from Python: numpy tensors in every layout give one glyph,
 copper's largest longitudinal modulus comes out analytically, bad input is reported, and the
 tensor example runs on the copper polycrystal and on real tensors of the TensorData fixture

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The streamline readers against nibabel, the independent reference, on real files that ship
 with Debian: nibabel's standard.trk (voxel order RAS), standard.LPS.trk (LPS: flipped axes) and
 standard.tck, and DIPY's minimal_bundles.zip (TrackVis bundles of five subjects). Every point

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """sightline-view as a user runs it, on real files of every kind it opens: DIPY's sform-only
 func_coef.nii.gz and the SHData/TensorData fixtures' small_64D SH and tensor images, nibabel's
 standard.trk and standard.tck, DIPY's minimal_bundles, the project's SWC test neuron, a .mif

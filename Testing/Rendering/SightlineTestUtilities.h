@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shared helpers of the VTK-layer tests: scenes, window capture, baseline comparison and
 // collection of VTK error/warning messages.
 #pragma once

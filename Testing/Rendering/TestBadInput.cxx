@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Bad input is reported by name and never crashes; the valid part still renders.
 #include "SightlineTestUtilities.h"
 

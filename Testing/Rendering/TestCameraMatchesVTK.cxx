@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The kernel camera against vtkCamera: the same world-to-clip matrix, and primary rays that
 // project back onto their pixel centres through VTK's own projection.
 #include "SightlineKernelConversions.h" // private to the module: the conversion under test

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Ray-traced spheres composite with ordinary VTK geometry through the depth buffer.
 // Two unit spheres centred at x = 0 and x = 0.8 intersect in the plane x = 0.4; seen along -z
 // with a parallel camera, the nearer surface changes exactly at x = 0.4 on every row, whichever

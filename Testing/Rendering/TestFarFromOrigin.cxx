@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The mappers far from the world origin: spheres, tubes and SH glyphs placed 1e2, 1e4 and 1e6
 // sizes away (at offsets float cannot hold exactly), seen by a camera moved with them, give the image and the depths they give at the
 // origin. The kernel intersects each primitive in its own frame with double rays; the mappers

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The GL-free path (vtkSightlineImageRenderer) against the window path (vtkSightlineMapper in
 // a vtkRenderWindow): the same pixels within one 8-bit level and the same depth within the
 // depth buffer's resolution, for perspective and parallel cameras, several actors and actor

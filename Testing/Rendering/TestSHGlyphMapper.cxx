@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineSHGlyphMapper on real data: DIPY's small_64D fitted to SH (lmax 8) by
 // scripts/make_sh_data.py (the SHData fixture), read with VTK's own vtkNIFTIImageReader.
 //

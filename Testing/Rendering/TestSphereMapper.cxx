@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineSphereMapper in a render window: exact silhouettes and depth, scalar colouring
 // against a baseline image, camera changes, resizing, viewports, subsampling and progress.
 #include "SightlineTestUtilities.h"

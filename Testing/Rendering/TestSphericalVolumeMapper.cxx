@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineSphericalVolumeMapper and vtkSightlineSphericalFieldSource: the emission-absorption
 // closed form of a homogeneous ball through the whole VTK path, occlusion by opaque geometry
 // inside the volume in a window against the kernel with the window's depth, the GL-free path

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineTensorGlyphMapper: a published 4th-order stiffness tensor (copper) in every layout,
 // real diffusion tensors of DIPY's small_64D (the TensorData fixture, scripts/
 // make_tensor_data.py) drawn as vtkTensorGlyph's ellipsoids and compared with vtkTensorGlyph

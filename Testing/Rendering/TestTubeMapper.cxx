@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // vtkSightlineTubeMapper: a neuron read by vtkSightlineSWCReader drawn from its parent indices
 // and from its polylines (the same tubes), a straight tube's silhouette against its analytic
 // area, translucent tubes composited with OpenGL spheres in front and behind, and bad input.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SphereCloud: ray-trace one exact sphere per point of a VTK point set.
 //
 //   SphereCloud [--input FILE.vtp|.vtk] [--radius-array NAME] [--radius R]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The tessellated SH glyph baseline (SHGlyphTessellation) and the triangle mesh it produces
 // (TriangleMesh, Embree's built-in triangles): icosphere counts and topology, vertices on the
 // exact glyph surface, convergence of a k = 0 glyph to its sphere as the level grows, colours,

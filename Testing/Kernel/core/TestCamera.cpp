@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Camera: the matrix must be vtkCamera's (checked against gluLookAt + glFrustum/glOrtho written
 // out here), and rays, depths and unprojection must all agree with that matrix.
 #include "KernelTestSupport.h"

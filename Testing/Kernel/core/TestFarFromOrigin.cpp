@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Far from the origin: the same scene placed 0, 1e2, 1e4 and 1e6 primitive sizes away from the
 // world origin, with the camera near it, must show the same hits, depths (relative to the
 // primitive size) and colours as at the origin, within tolerances that do not grow with the

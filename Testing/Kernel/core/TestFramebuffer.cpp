@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Framebuffer: clearing, 8-bit conversion (compositing over the background, clamping, rounding)
 // and depth compositing.
 #include "sightline/core/Framebuffer.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ImageIO: PNG round trips exactly and keeps the orientation; EXR holds the colour, distance and
 // window-depth channels under the documented names.
 #include "KernelTestSupport.h"

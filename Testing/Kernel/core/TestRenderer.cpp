@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // EmbreeScene + Renderer against analytic spheres: coverage, depth, distance and shading are all
 // predicted per pixel from the reference camera matrix and the long double ray-sphere solution.
 #include "KernelTestSupport.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Independent references for the SH glyph tests (TestSHGlyphIntersection.cpp,
 // TestSHGlyphBounds.cpp, and glyph builders shared with TestSHGlyphSet.cpp and
 // TestSHGlyphRendering.cpp): random coefficient families and a ray-glyph reference that never

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // EllipsoidSet (vtkTensorGlyph's second-order shape, exact) against an independent reference:
 // the implicit quadric (x - c)^T A (x - c) = 1 with A = (M M^T)^-1, solved in long double by
 // bisection on the ray, and its gradient for normals.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Bounding volumes of SH glyphs: shGlyphHalfExtents / shGlyphHalfExtentsUnpadded (Section 4.2 of
 // Peters et al. 2023) and shGlyphBoundingRadius, against a dense reference.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // intersectSHGlyph (Algorithm 1 of Peters et al. 2023) and shGlyphNormal (Eq. 11) against
 // independent long double references (SHGlyphTestSupport.h): the reference finds the crossings
 // of |p| = |F(p / |p|)| along the ray by certified sampling in the ray's plane, never through

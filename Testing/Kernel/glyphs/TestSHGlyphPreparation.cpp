@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SHGlyphPreparation: one conversion to the canonical basis whatever the input basis, rotation,
 // normalisations, dropped glyphs, the per-point box cache, and ellipsoids from second-order
 // tensors without SH boxes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SH glyphs through the Renderer: a k = 0 glyph against the analytic sphere primitive, the glTF
 // dielectric BRDF against an independent formula, hard and soft shadows, uncertainty volumes
 // against the analytic transmittance, and float against double arithmetic at k = 10 and 12.

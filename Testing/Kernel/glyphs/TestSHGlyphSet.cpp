@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SHGlyphSet: input validation (throw or drop and report), SH conventions, band trimming, boxes,
 // the Embree user geometry (nearest hit against brute force, occlusion, hidden negative lobes),
 // surface colours, the ray-marching baselines and the inside length that uncertainty volumes use.

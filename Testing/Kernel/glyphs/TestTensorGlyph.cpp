@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The tensor glyph paper's methods (TensorGlyph.h) against independent references: the
 // Cartesian function against evaluateSymmetricTensor and the SH sum; interval and affine
 // enclosures against point evaluations; subdivision and marching against the exact root

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Included by CTest after the discovered kernel tests (TEST_INCLUDE_FILES, see CMakeLists.txt):
 # the tests that read the spherical-harmonics reference tables require the fixture that writes
 # them (SphericalHarmonics.MakeReferences). SightlineKernelTests_TESTS is gtest_discover_tests'

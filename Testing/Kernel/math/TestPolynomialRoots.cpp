@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // polynomialRoots (PolynomialRoots.h) against polynomials built from known roots.
 //
 // Each random polynomial is the product of its leading coefficient, (x - r) for real roots and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SHRotation: the turned glyph G(w) = F(R^T w) is checked pointwise with the kernel's SH
 // evaluation (itself verified against MRtrix3 and DIPY), for proper and improper rotations of
 // random functions up to order 16; rotations compose; non-orthogonal matrices are refused.

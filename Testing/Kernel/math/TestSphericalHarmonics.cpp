@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Spherical harmonics: the canonical basis, its derivatives and the four file conventions.
 //
 // SphericalHarmonicsReference.* compare against tables that make_sh_references.py writes before

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Symmetric tensors as glyph functions: component order and multiplicities against a brute-force
 // contraction of the full 3^n tensor; the tensor-to-SH map against pointwise evaluation (the SH
 // side with the kernel's basis, verified against MRtrix3 and DIPY) for every even order up to

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Reference tables for Testing/Kernel/TestSphericalHarmonics.cpp, from software nobody here wrote.
 
 Usage: make_sh_references.py OUTPUT_DIR

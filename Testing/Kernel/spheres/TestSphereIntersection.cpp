@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // intersectSphere against the textbook quadratic solved in long double. Every reference is
 // computed from the exact float inputs the kernel receives, so the tolerances measure the kernel's
 // own float arithmetic only.

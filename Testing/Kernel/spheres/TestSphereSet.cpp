@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // SphereSet: input validation (drop and report, or throw), bounds and the kept-to-input mapping.
 #include "sightline/spheres/SphereSet.h"
 

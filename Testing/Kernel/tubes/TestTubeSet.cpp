@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Tube links (TubeLink.h, TubeSet.h) against an independent reference: a link is the union of
 // the spheres centred on the segment with linearly varying radius, so a point q is inside iff
 // min over s in [0, 1] of |q - P(s)| - r(s) <= 0 (convex in s: golden-section search, long

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Translucent generalized tubes (Han et al. 2019, Section 4.3): the surfaces a ray crosses must
 // be exactly those of the union of the links, found independently here by sampling the union's
 // distance function (the minimum over links of the swept-sphere distance) along the ray. At a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The classes of rays the spherical-grid thesis singles out, for the kernel tests: random rays
 // from outside, rays ending or starting anywhere, through the origin, along and parallel to the
 // polar axis, tangent to every shell, grazing and along every cone, starting inside, through

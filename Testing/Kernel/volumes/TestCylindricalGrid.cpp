@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cylindrical-grid traversal (CylindricalGrid.h) against an independent reference: every
 // cylinder, half-plane and height plane intersected by brute force and the pieces between
 // consecutive crossings classified by converting their midpoints to (rho, phi, z) with hypot

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Spherical-grid traversal (SphericalGrid.h) against an independent reference: every sphere,
 // cone and half-plane of the grid intersected by brute force, the pieces between consecutive
 // crossings classified by converting their midpoints to (r, theta, phi) with acos and atan2.

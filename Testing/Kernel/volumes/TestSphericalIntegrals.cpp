@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The samplers against the analytic integrals of the thesis' test fields (Chapter 6), for
 // every class of ray: the step function chi_0.5 projected cell by cell on grids whose radial
 // breakpoints include its steps, r^2 through the linear-in-r^2 sampler and r through the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/baselines/SHGlyphTessellation.h"
 
 #include <tbb/parallel_for.h>

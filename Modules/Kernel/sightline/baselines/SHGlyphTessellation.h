@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The tessellated baseline for SH glyphs, built the way DIPY/FURY's odf_slicer and MRtrix's
 // mrview build theirs: a unit sphere mesh (here an icosphere) is copied once per glyph and each
 // vertex v is moved to c + |F(v)| v, where F is the glyph's function. The glyphs come from an

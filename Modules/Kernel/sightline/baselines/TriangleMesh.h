@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Indexed triangles as Embree's built-in RTC_GEOMETRY_TYPE_TRIANGLE: the tessellated baseline
 // the exact primitives are compared with (e.g. SH glyphs deformed from an icosphere, see
 // SHGlyphTessellation.h). Shading uses the geometric normal of each triangle unless vertex

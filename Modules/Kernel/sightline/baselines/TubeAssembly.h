@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Synthetic tube data for benchmarks and demos, the kind the generalized-tube paper measures
 // (Han et al. 2019, Section 6): neurons (a soma and tapering, bifurcating dendrites and an
 // axon), assemblies of randomly placed and rotated copies of a base neuron, and bundles of

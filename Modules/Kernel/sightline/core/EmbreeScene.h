@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // RAII ownership of an Embree device and scene, plus the bookkeeping benchmarks need
 // (BVH build time and bytes).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Colour and depth of one rendered view, stored bottom row first as OpenGL and vtkImageData do.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The one pattern every primitive follows: a Geometry knows its primitives' bounds, exact
 // ray intersection and base colour; UserGeometry<Derived> turns that into an Embree user
 // geometry with statically dispatched callbacks (no virtual call on the hot path).

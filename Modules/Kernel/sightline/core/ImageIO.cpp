@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/core/ImageIO.h"
 
 #include <OpenImageIO/imageio.h>

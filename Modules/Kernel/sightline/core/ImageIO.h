@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Image output through OpenImageIO: PNG for looking at, OpenEXR for keeping depth.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/core/Renderer.h"
 
 #include <tbb/blocked_range2d.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Tile-parallel primary-ray rendering of an EmbreeScene into a Framebuffer.
 #pragma once
 

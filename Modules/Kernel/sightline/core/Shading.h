@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Local shading shared by every primitive: ambient + Lambert + Blinn-Phong specular with
 // VTK's vtkProperty parameters, under directional lights.
 #pragma once

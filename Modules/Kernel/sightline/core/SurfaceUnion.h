@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The union of solids along a ray (Han et al. 2019, Section 4.3): the intervals where a ray is
 // inside each solid part of a primitive, and the entry and exit surfaces of their union, which
 // the renderer composites for correct transparency of overlapping primitives.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Ellipsoids p = c + M u, |u| = 1, intersected exactly: the second-order tensor glyph that
 // vtkTensorGlyph draws by transforming a sphere source with M = eigenvectors * eigenvalues.
 // The ray is mapped into the unit sphere's frame, where the intersection is the sphere's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One spherical-harmonics glyph, exactly: the surface |p| = |F(p / |p|)| for a function F given
 // by canonical SH coefficients of even bands up to `order` (see SphericalHarmonics.h), centred
 // at the origin. Implements Peters et al. 2023 ("Ray tracing spherical harmonics glyphs"):

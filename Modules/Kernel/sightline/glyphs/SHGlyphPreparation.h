@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // From the glyph functions of selected input points to what SHGlyphSet and EllipsoidSet draw:
 // the single place where input conventions are converted. Each point's values are read once
 // in double and converted once to the canonical basis; then the glyph is turned into world

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // N spherical-harmonics glyphs as one Embree user geometry: near-exact boxes for the BVH,
 // the exact root-finding intersection of SHGlyph.h for primary and shadow rays, and the
 // all-intersections query that uncertainty volumes need. The ray-marching methods of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The intersection methods of Hlawitschka, Hijazi, Knoll and Hamann ("Towards high-quality
 // rendering of higher-order tensor glyphs"), kept as options and baselines next to the exact
 // root finding of SHGlyph.h. They work on the seed's implicit function (Eq. 5 and Sec. 3.1)

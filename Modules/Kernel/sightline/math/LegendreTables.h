@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Recurrence constants of the canonical SH basis, shared by the general evaluation
 // (SphericalHarmonics.cpp) and the glyph kernel's batched sums (SHGlyph.cpp), so both compute
 // the same values (internal header).

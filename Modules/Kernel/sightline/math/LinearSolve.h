@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Small dense linear algebra shared by the kernel's basis changes (internal header).
 #pragma once
 

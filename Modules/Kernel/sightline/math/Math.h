@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Small math vocabulary shared by the kernel: GLM vectors, rays and boxes.
 #pragma once
 

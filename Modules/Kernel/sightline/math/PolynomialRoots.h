@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Real roots of a polynomial in an interval by bracketed iteration on monotonic pieces
 // (after C. Yuksel, "High-performance polynomial root finding for graphics", HPG 2022):
 // the roots of the derivative split [xmin, xmax] into intervals where the polynomial is

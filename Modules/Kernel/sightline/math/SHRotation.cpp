@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/math/SHRotation.h"
 
 #include "sightline/math/SphericalHarmonics.h"

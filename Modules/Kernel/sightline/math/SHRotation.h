@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Rotations of real SH functions: the coefficients of the glyph turned by a 3x3 orthogonal
 // matrix. Glyphs whose directions are given in an image's voxel axes (e.g. a DIPY fit with
 // FSL-style b-vectors) are drawn in world space by turning them with the image's orientation.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Spherical Fibonacci directions, the kernel's one way to sample the sphere (internal header).
 #pragma once
 

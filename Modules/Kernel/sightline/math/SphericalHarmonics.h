@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Real, even-band spherical harmonics evaluated in Cartesian form (no trigonometric functions):
 // Y_l^m(x, y, z) = N_lm * d^m/dz^m P_l(z) * Re/Im (x + i y)^|m|, a polynomial in x, y, z that
 // equals the usual basis on the unit sphere. Value, gradient and Hessian of the polynomial come

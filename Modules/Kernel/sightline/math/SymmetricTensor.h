@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Totally symmetric Cartesian tensors of even order n (3 x ... x 3, n indices) as glyph
 // functions: T(w) = T_{i1..in} w_i1 ... w_in, a homogeneous polynomial of degree n. On the unit
 // sphere these polynomials span exactly the even SH bands 0, 2, ..., n (Peters et al. 2023,

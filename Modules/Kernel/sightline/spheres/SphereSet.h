@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Analytic spheres (centre + radius), intersected exactly. The first primitive: small, but it
 // exercises every layer, and the generalized tubes reuse it for their joints.
 #pragma once

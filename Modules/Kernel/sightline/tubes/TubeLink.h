@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // One link of a generalized tube (Han et al. 2019): two spheres and the cone stump tangent to
 // both, whose union is the convex hull of the two spheres, i.e. the sphere swept along the
 // segment with linearly varying radius. Equal radii give a cylinder, one sphere inside the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Generalized tubes (Han et al. 2019) as one Embree user geometry: control points with radii,
 // each linked to a predecessor (or -1), drawn as a sphere at every point and the tangential cone
 // stump (TubeLink.h) to its predecessor. Bifurcations need no special case: two links naming

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Exact ray traversal of cylindrical grids (rho, phi, z), the thesis' remark that the spherical
 // scheme carries over: along a line rho^2 (distance from the z axis) is ditone with one hinge
 // at the closest approach to the axis, phi is monotone (the same half-planes as spherical

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The Preliminary Reference Earth Model (PREM; A. M. Dziewonski and D. L. Anderson, "Preliminary
 // reference Earth model", Physics of the Earth and Planetary Interiors 25 (1981) 297-356, Table
 // 1): density as a piecewise cubic in the normalised radius x = r / 6371 km, one polynomial per

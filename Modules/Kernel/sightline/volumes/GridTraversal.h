@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pieces shared by the spherical and cylindrical traversals (SphericalGrid.h,
 // CylindricalGrid.h): index transitions along a ray for a radius measured from a point or an
 // axis (ditone: one hinge at the closest approach), for azimuth half-planes around the z axis

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Analytic fields on spherical domains with exact ray integrals: the thesis' test cases
 // (Chapter 6: radial step functions such as chi_0.5 = 2 for r <= 1/2, 1 for r <= 1, and the
 // field r^2 inside a ball), used by the tests, the benchmark and the VTK source that samples

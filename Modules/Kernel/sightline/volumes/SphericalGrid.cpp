@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/volumes/SphericalGrid.h"
 
 #include "sightline/volumes/GridTraversal.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Exact ray traversal of spherical grids (r, theta, phi) without converting to Cartesian cells,
 // after "Ray casting in spherical coordinates" (the thesis in ../shared/seeds): along a line,
 // r^2 and the polar angle are ditone (one hinge each: the closest approach to the origin, and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Emission-absorption volume rendering of a spherical grid (SphericalGrid.h), or a cylindrical
 // one (CylindricalGrid.h), straight from its cells: every pixel's ray is traversed exactly and
 // each cell it crosses contributes its transfer-function colour and extinction over the exact

@@ -3,14 +3,18 @@
 # labels and properties in one call, discovered test by test (gtest_discover_tests).
 #
 #   sightline_add_gtest(NAME target SOURCES ... [LIBRARIES ...] [DEFINITIONS ...]
-#     [LABELS ...] [PROPERTIES key value ...] [AUTOINIT vtk-modules...] [NO_PRETTY_VALUES])
+#     [LABEL label] [PROPERTIES key value ...] [AUTOINIT vtk-modules...] [NO_PRETTY_VALUES])
+#
+# One label per executable: gtest_discover_tests writes the properties of each test as a flat
+# argument list, so a second label would be read as a property name and every property after
+# it (FIXTURES_REQUIRED, TIMEOUT) would be lost.
 #
 # AUTOINIT registers VTK object factories (rendering backends) for tests that open windows.
 include(GoogleTest)
 
 function(sightline_add_gtest)
-  cmake_parse_arguments(PARSE_ARGV 0 arg "NO_PRETTY_VALUES" "NAME"
-    "SOURCES;LIBRARIES;DEFINITIONS;LABELS;PROPERTIES;AUTOINIT")
+  cmake_parse_arguments(PARSE_ARGV 0 arg "NO_PRETTY_VALUES" "NAME;LABEL"
+    "SOURCES;LIBRARIES;DEFINITIONS;PROPERTIES;AUTOINIT")
   if(NOT arg_NAME OR NOT arg_SOURCES)
     message(FATAL_ERROR "sightline_add_gtest needs NAME and SOURCES")
   endif()
@@ -26,8 +30,7 @@ function(sightline_add_gtest)
   if(arg_NO_PRETTY_VALUES)
     set(pretty NO_PRETTY_VALUES)
   endif()
-  list(JOIN arg_LABELS ";" labels)
   gtest_discover_tests(${arg_NAME} ${pretty}
-    PROPERTIES LABELS "${labels}" ${arg_PROPERTIES}
+    PROPERTIES LABELS ${arg_LABEL} ${arg_PROPERTIES}
     DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -7,61 +7,17 @@
 
 namespace sightline
 {
-namespace
-{
-/// The root of |f + t d|^2 = r^2 (f = ray origin - centre) that a ray from tnear meets first, in
-/// the arithmetic T: the near one, or the far one from inside.
-template <class T, class Vec>
-bool firstSphereRoot(const Vec& f, const Vec& d, T radius, T tnear, T tfar, T& t)
-{
-  // Solve a t^2 - 2 b t + c = 0. The discriminant b^2 - a c equals a (r^2 - |f - (f.d/a) d|^2):
-  // computing it from the ray's distance to the centre avoids the cancellation of b^2 - a c
-  // when the origin is far away (Haines et al., Ray Tracing Gems 7).
-  const T a = glm::dot(d, d);
-  const T inverseA = T(1) / a; // off the critical path: it overlaps the dot products
-  const T b = -glm::dot(f, d);
-  const Vec offLine = f + (b * inverseA) * d;
-  const T r2 = radius * radius;
-  const T discriminant = a * (r2 - glm::dot(offLine, offLine));
-  if (!(discriminant >= T(0)))
-    return false;
-  const T c = glm::dot(f, f) - r2;
-  // Citardauq pair: q has no cancellation, and t0 = c / q, t1 = q / a.
-  const T q = b + std::copysign(std::sqrt(discriminant), b);
-  T t0 = c / q;
-  T t1 = q * inverseA;
-  if (q == T(0)) // ray through the centre, tangent at the origin: both roots zero
-    t0 = t1 = T(0);
-  if (t0 > t1)
-    std::swap(t0, t1);
-  t = t0;
-  if (!(t > tnear))
-    t = t1; // origin inside the sphere (or the near root is behind): the far side
-  return t > tnear && t < tfar;
-}
-} // namespace
 
 bool intersectSphere(const vec3& center, float radius, const Ray& ray, SurfaceHit& hit)
 {
   float t;
-  if (!firstSphereRoot(ray.origin - center, ray.direction, radius, ray.tnear, ray.tfar, t))
+  if (!detail::firstSphereRoot(ray.origin - center, ray.direction, radius, ray.tnear, ray.tfar, t))
     return false;
   hit.t = t;
   hit.normal = (ray.origin + t * ray.direction - center) / radius;
   return true;
 }
 
-bool intersectSphere(const dvec3& center, double radius, const DoubleRay& ray, SurfaceHit& hit)
-{
-  // In the sphere's frame; the renderer normalises the normal.
-  const dvec3 f = ray.origin - center;
-  double t;
-  if (!firstSphereRoot(f, ray.direction, radius, ray.tnear, ray.tfar, t))
-    return false;
-  hit.t = t;
-  hit.normal = vec3(f + t * ray.direction);
-  return true;
-}
 
 SphereSet::SphereSet(const dvec3& origin, const std::vector<vec3>& centers,
   const std::vector<float>& radii, float defaultRadius, const std::vector<std::uint32_t>& colors)

@@ -25,6 +25,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -107,17 +108,14 @@ TEST(FarFromOrigin, SpheresLookTheSame)
   ExpectSameFarAway(
     [](double offset)
     {
-      auto spheres = MakeSpheres({ { offset + 0.13, offset + 0.07, offset + 0.02 },
-                                   { offset + 1.11, offset + 0.03, offset - 0.05 },
-                                   { offset - 0.09, offset + 1.07, offset + 0.53 } },
-        { 0.45, 0.3, 0.35 });
+      const std::vector<std::array<double, 3>> centres{ { offset + 0.13, offset + 0.07, offset + 0.02 },
+        { offset + 1.11, offset + 0.03, offset - 0.05 }, { offset - 0.09, offset + 1.07, offset + 0.53 } };
+      auto spheres = MakeSpheres(centres, { 0.45, 0.3, 0.35 });
       // Double points: float ones far away would already be rounded.
       vtkNew<vtkPoints> exact;
       exact->SetDataTypeToDouble();
-      exact->SetNumberOfPoints(3);
-      exact->SetPoint(0, offset + 0.13, offset + 0.07, offset + 0.02);
-      exact->SetPoint(1, offset + 1.11, offset + 0.03, offset - 0.05);
-      exact->SetPoint(2, offset - 0.09, offset + 1.07, offset + 0.53);
+      for (const auto& c : centres)
+        exact->InsertNextPoint(c.data());
       spheres->SetPoints(exact);
       vtkNew<vtkSightlineSphereMapper> mapper;
       mapper->SetInputDataObject(spheres);

@@ -1,0 +1,330 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkSightlineRepresentation.h"
+
+#include "vtkActor.h"
+#include "vtkBoundingBox.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataSet.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkPVRenderView.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkSightlineMapper.h"
+#include "vtkTransform.h"
+
+#include <cstring>
+
+namespace
+{
+// Bounds of a data set or of every non-empty leaf of a composite.
+void DataObjectBounds(vtkDataObject* data, double bounds[6])
+{
+  vtkBoundingBox box;
+  if (auto* dataSet = vtkDataSet::SafeDownCast(data))
+  {
+    if (dataSet->GetNumberOfPoints() > 0)
+    {
+      box.AddBounds(dataSet->GetBounds());
+    }
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      auto* leaf = vtkDataSet::SafeDownCast(it->GetCurrentDataObject());
+      if (leaf && leaf->GetNumberOfPoints() > 0)
+      {
+        box.AddBounds(leaf->GetBounds());
+      }
+    }
+  }
+  if (box.IsValid())
+  {
+    box.GetBounds(bounds);
+  }
+  else
+  {
+    vtkMath::UninitializeBounds(bounds);
+  }
+}
+}
+
+vtkSightlineRepresentation::vtkSightlineRepresentation(vtkSightlineMapper* mapper)
+  : Mapper(mapper)
+  , Actor(vtkSmartPointer<vtkActor>::New())
+  , Property(vtkSmartPointer<vtkProperty>::New())
+{
+  this->Actor->SetMapper(this->Mapper);
+  this->Actor->SetProperty(this->Property);
+  // Hidden until the view hands the mapper its data: a composite representation adds every
+  // sub-representation's prop to the renderer, and the inactive ones never get data.
+  this->Actor->SetVisibility(0);
+  // No scalar colouring until ParaView selects an array.
+  this->Mapper->SetScalarVisibility(0);
+  vtkMath::UninitializeBounds(this->DataBounds);
+}
+
+vtkSightlineRepresentation::~vtkSightlineRepresentation() = default;
+
+vtkSightlineMapper* vtkSightlineRepresentation::GetSightlineMapper()
+{
+  return this->Mapper;
+}
+
+vtkActor* vtkSightlineRepresentation::GetActor()
+{
+  return this->Actor;
+}
+
+int vtkSightlineRepresentation::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+int vtkSightlineRepresentation::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkMath::UninitializeBounds(this->DataBounds);
+  this->Cache = nullptr;
+  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
+  {
+    if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
+    {
+      // A shallow copy, so that the view delivers this frame's data even if the pipeline
+      // re-executes before the next render.
+      this->Cache.TakeReference(input->NewInstance());
+      this->Cache->ShallowCopy(input);
+      DataObjectBounds(this->Cache, this->DataBounds);
+    }
+  }
+  return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+int vtkSightlineRepresentation::ProcessViewRequest(
+  vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
+{
+  if (!this->Superclass::ProcessViewRequest(request, inInfo, outInfo))
+  {
+    return 0;
+  }
+  if (request == vtkPVView::REQUEST_UPDATE())
+  {
+    // Ranks without data still take part in every frame: an empty piece, drawn as nothing.
+    vtkPVView::SetPiece(inInfo, this, this->Cache);
+    vtkPVRenderView::SetGeometryBounds(inInfo, this, this->DataBounds);
+  }
+  else if (request == vtkPVView::REQUEST_RENDER())
+  {
+    vtkAlgorithmOutput* producer = vtkPVRenderView::GetPieceProducer(inInfo, this);
+    if (producer)
+    {
+      this->Mapper->SetInputConnection(producer);
+    }
+    this->Actor->SetVisibility(producer && this->GetVisibility() ? 1 : 0);
+  }
+  return 1;
+}
+
+bool vtkSightlineRepresentation::AddToView(vtkView* view)
+{
+  auto* renderView = vtkPVRenderView::SafeDownCast(view);
+  if (!renderView)
+  {
+    return false;
+  }
+  renderView->GetRenderer()->AddActor(this->Actor);
+  renderView->RegisterPropForHardwareSelection(this, this->Actor);
+  return this->Superclass::AddToView(view);
+}
+
+bool vtkSightlineRepresentation::RemoveFromView(vtkView* view)
+{
+  auto* renderView = vtkPVRenderView::SafeDownCast(view);
+  if (!renderView)
+  {
+    return false;
+  }
+  renderView->GetRenderer()->RemoveActor(this->Actor);
+  renderView->UnRegisterPropForHardwareSelection(this, this->Actor);
+  return this->Superclass::RemoveFromView(view);
+}
+
+void vtkSightlineRepresentation::SetVisibility(bool visible)
+{
+  this->Superclass::SetVisibility(visible);
+  if (!visible)
+  {
+    this->Actor->SetVisibility(0);
+  }
+}
+
+void vtkSightlineRepresentation::SetInputArrayToProcess(
+  int idx, int port, int connection, int fieldAssociation, const char* name)
+{
+  this->Superclass::SetInputArrayToProcess(idx, port, connection, fieldAssociation, name);
+  if (idx != 0)
+  {
+    return;
+  }
+  const bool on = name && name[0];
+  if (on)
+  {
+    this->Mapper->SelectColorArray(name);
+    this->Mapper->SetScalarMode(fieldAssociation == vtkDataObject::FIELD_ASSOCIATION_CELLS
+        ? VTK_SCALAR_MODE_USE_CELL_FIELD_DATA
+        : VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
+  }
+  this->SetScalarColoring(on);
+}
+
+const char* vtkSightlineRepresentation::SelectedArrayName(const char* name)
+{
+  return name && name[0] && std::strcmp(name, "None") != 0 ? name : nullptr;
+}
+
+void vtkSightlineRepresentation::SetScalarColoring(bool on)
+{
+  this->Mapper->SetScalarVisibility(on ? 1 : 0);
+}
+
+void vtkSightlineRepresentation::SetLookupTable(vtkScalarsToColors* table)
+{
+  this->Mapper->SetLookupTable(table);
+}
+
+void vtkSightlineRepresentation::SetMapScalars(int mapScalars)
+{
+  this->Mapper->SetColorMode(mapScalars ? VTK_COLOR_MODE_MAP_SCALARS : VTK_COLOR_MODE_DIRECT_SCALARS);
+}
+
+void vtkSightlineRepresentation::SetInterpolateScalarsBeforeMapping(int interpolate)
+{
+  this->Mapper->SetInterpolateScalarsBeforeMapping(interpolate);
+}
+
+void vtkSightlineRepresentation::SetOpacity(double opacity)
+{
+  this->Property->SetOpacity(opacity);
+}
+
+void vtkSightlineRepresentation::SetColor(double r, double g, double b)
+{
+  this->Property->SetColor(r, g, b);
+}
+
+void vtkSightlineRepresentation::SetDiffuseColor(double r, double g, double b)
+{
+  this->Property->SetDiffuseColor(r, g, b);
+}
+
+void vtkSightlineRepresentation::SetAmbientColor(double r, double g, double b)
+{
+  this->Property->SetAmbientColor(r, g, b);
+}
+
+void vtkSightlineRepresentation::SetSpecularColor(double r, double g, double b)
+{
+  this->Property->SetSpecularColor(r, g, b);
+}
+
+void vtkSightlineRepresentation::SetAmbient(double value)
+{
+  this->Property->SetAmbient(value);
+}
+
+void vtkSightlineRepresentation::SetDiffuse(double value)
+{
+  this->Property->SetDiffuse(value);
+}
+
+void vtkSightlineRepresentation::SetSpecular(double value)
+{
+  this->Property->SetSpecular(value);
+}
+
+void vtkSightlineRepresentation::SetSpecularPower(double value)
+{
+  this->Property->SetSpecularPower(value);
+}
+
+void vtkSightlineRepresentation::SetInterpolation(int interpolation)
+{
+  this->Property->SetInterpolation(interpolation);
+}
+
+void vtkSightlineRepresentation::SetRoughness(double value)
+{
+  this->Property->SetRoughness(value);
+}
+
+void vtkSightlineRepresentation::SetPosition(double x, double y, double z)
+{
+  this->Actor->SetPosition(x, y, z);
+}
+
+void vtkSightlineRepresentation::SetScale(double x, double y, double z)
+{
+  this->Actor->SetScale(x, y, z);
+}
+
+void vtkSightlineRepresentation::SetOrientation(double x, double y, double z)
+{
+  this->Actor->SetOrientation(x, y, z);
+}
+
+void vtkSightlineRepresentation::SetOrigin(double x, double y, double z)
+{
+  this->Actor->SetOrigin(x, y, z);
+}
+
+void vtkSightlineRepresentation::SetUserTransform(const double matrix[16])
+{
+  vtkNew<vtkTransform> transform;
+  transform->SetMatrix(matrix);
+  this->Actor->SetUserTransform(transform);
+}
+
+void vtkSightlineRepresentation::SetPickable(int pickable)
+{
+  this->Actor->SetPickable(pickable);
+}
+
+void vtkSightlineRepresentation::SetShadowMode(int mode)
+{
+  this->Mapper->SetShadowMode(mode);
+}
+
+void vtkSightlineRepresentation::SetShadowSamples(int samples)
+{
+  this->Mapper->SetShadowSamples(samples);
+}
+
+void vtkSightlineRepresentation::SetLightAngularRadius(double degrees)
+{
+  this->Mapper->SetLightAngularRadius(degrees);
+}
+
+void vtkSightlineRepresentation::SetInteractiveSubsampling(int step)
+{
+  this->Mapper->SetInteractiveSubsampling(step);
+}
+
+void vtkSightlineRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Mapper: " << this->Mapper->GetClassName() << "\n";
+  os << indent << "Cache: " << (this->Cache ? this->Cache->GetClassName() : "(none)") << "\n";
+  os << indent << "DataBounds: " << this->DataBounds[0] << " " << this->DataBounds[1] << " "
+     << this->DataBounds[2] << " " << this->DataBounds[3] << " " << this->DataBounds[4] << " "
+     << this->DataBounds[5] << "\n";
+}

@@ -1,0 +1,296 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""The ParaView plugin under pvbatch: readers through File > Open's reader factory, every
+Sightline representation on real data, property changes, and each ParaView image against the
+VTK-level mapper drawing the same data with the same camera and lights.
+
+Run by ctest as `pvbatch --force-offscreen-rendering test_paraview.py` (label paraview) with
+SIGHTLINE_PLUGIN (the plugin's .so), SIGHTLINE_SH_DATA_DIR (the SHData fixture) and
+SIGHTLINE_TEST_TEMP_DIR set; PYTHONPATH holds ParaView's Python and the 'sightline' package
+built against ParaView's VTK, so the reference mappers run in the same process.
+"""
+import os
+import sys
+import tempfile
+import unittest
+import zipfile
+
+import numpy as np
+from paraview.simple import (ColorBy, CreateView, Delete, GetColorTransferFunction,
+                             GetOpacityTransferFunction, LoadPlugin, OpenDataFile, Render,
+                             SetActiveView, Show, Calculator)
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkRenderingCore import vtkActor, vtkRenderer, vtkRenderWindow, vtkVolume, vtkWindowToImageFilter
+from vtkmodules.vtkRenderingCore import vtkVolumeProperty
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+
+PLUGIN = os.environ.get("SIGHTLINE_PLUGIN", "")
+SH_DATA = os.environ.get("SIGHTLINE_SH_DATA_DIR", "")
+TEMP = os.environ.get("SIGHTLINE_TEST_TEMP_DIR", tempfile.gettempdir())
+SWC_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data", "SWC")
+BUNDLES = "/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip"
+SIZE = (400, 300)
+
+LoadPlugin(PLUGIN, ns=globals())
+import sightline  # noqa: E402  (after ParaView's vtkmodules are on the path)
+
+
+def view_image(view):
+    """The view's last frame as an (h, w, 3) uint8 array."""
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(view.GetRenderWindow())
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    image = grab.GetOutput()
+    w, h, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].copy()
+
+
+def make_view():
+    view = CreateView("RenderView")
+    view.ViewSize = list(SIZE)
+    view.OrientationAxesVisibility = 0
+    view.Background = [0.1, 0.1, 0.15]
+    view.UseColorPaletteForBackground = 0
+    view.EnableRenderOnInteraction = 0
+    SetActiveView(view)
+    return view
+
+
+def reference_image(view, prop):
+    """`prop` (an actor or volume with a Sightline mapper) drawn by plain VTK with the view's
+    camera, lights and background: what the VTK-level mapper draws for the same data."""
+    pv_renderer = view.GetRenderer()
+    renderer = vtkRenderer()
+    renderer.SetBackground(pv_renderer.GetBackground())
+    renderer.GetActiveCamera().DeepCopy(pv_renderer.GetActiveCamera())
+    renderer.AutomaticLightCreationOff()
+    lights = pv_renderer.GetLights()
+    lights.InitTraversal()
+    for _ in range(lights.GetNumberOfItems()):
+        light = lights.GetNextItem()
+        copy = type(light)()
+        copy.DeepCopy(light)
+        renderer.AddLight(copy)
+    renderer.AddViewProp(prop)
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(*SIZE)
+    window.AddRenderer(renderer)
+    window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    image = grab.GetOutput()
+    w, h, _ = image.GetDimensions()
+    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].copy()
+    window.Finalize()
+    return pixels
+
+
+def save_png(pixels, name):
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    h, w, _ = pixels.shape
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    image.GetPointData().SetScalars(numpy_to_vtk(pixels.reshape(-1, 3).copy()))
+    writer = vtkPNGWriter()
+    writer.SetFileName(os.path.join(TEMP, name))
+    writer.SetInputData(image)
+    writer.Write()
+
+
+def differing_fraction(a, b, tolerance=24):
+    """Fraction of pixels whose largest channel difference exceeds `tolerance` (of 255)."""
+    return float(np.mean(np.abs(a.astype(int) - b.astype(int)).max(axis=2) > tolerance))
+
+
+def covered_fraction(pixels, background):
+    back = np.round(np.array(background) * 255).astype(int)
+    return float(np.mean(np.abs(pixels.astype(int) - back).max(axis=2) > 8))
+
+
+class ParaViewPluginTest(unittest.TestCase):
+    maxDiff = None
+
+    def compare_with_vtk(self, view, source, representation, prop, name, tolerance=0.01):
+        """Renders the view, saves both images and asserts that at most `tolerance` of the
+        pixels differ from the VTK-level mapper's image."""
+        Render(view)
+        pv_pixels = view_image(view)
+        ref_pixels = reference_image(view, prop)
+        save_png(pv_pixels, f"ParaView{name}.png")
+        save_png(ref_pixels, f"ParaView{name}Reference.png")
+        coverage = covered_fraction(pv_pixels, view.Background)
+        self.assertGreater(coverage, 0.02, f"{name}: the representation drew (almost) nothing")
+        fraction = differing_fraction(pv_pixels, ref_pixels)
+        print(f"{name}: {coverage:.1%} of pixels covered, {fraction:.3%} differ from the VTK mapper")
+        self.assertLessEqual(fraction, tolerance, name)
+        return pv_pixels
+
+    def test_readers_are_registered_for_their_extensions(self):
+        with tempfile.TemporaryDirectory() as folder:
+            with zipfile.ZipFile(BUNDLES) as archive:
+                archive.extract("sub_1/AF_L.trk", folder)
+            files = {
+                os.path.join(folder, "sub_1", "AF_L.trk"): "SightlineTrackVisReader",
+                os.path.join(SWC_DIR, "neuron_three_point_soma.swc"): "SightlineSWCReader",
+                os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"): "SightlineMIFReader",
+                os.path.join(SH_DATA, "small_64D_sh_tournier07.mif.gz"): "SightlineMIFReader",
+                "/usr/lib/python3/dist-packages/nibabel/tests/data/standard.tck": "SightlineTCKReader",
+            }
+            for path, reader_name in files.items():
+                reader = OpenDataFile(path)
+                self.assertIsNotNone(reader, path)
+                self.assertEqual(reader.GetXMLName(), reader_name, path)
+                reader.UpdatePipeline()
+                info = reader.GetDataInformation()
+                self.assertGreater(info.GetNumberOfPoints(), 0, path)
+                Delete(reader)
+
+    def test_tubes_from_trk_coloured_through_the_lut(self):
+        with tempfile.TemporaryDirectory() as folder:
+            with zipfile.ZipFile(BUNDLES) as archive:
+                archive.extract("sub_1/CST_R.trk", folder)
+            reader = OpenDataFile(os.path.join(folder, "sub_1", "CST_R.trk"))
+            height = Calculator(Input=reader, ResultArrayName="height", Function="coordsZ")
+            view = make_view()
+            rep = Show(height, view)
+            rep.Representation = "Sightline Tubes"
+            rep.TubeRadius = 0.6
+            ColorBy(rep, ("POINTS", "height"))
+            lut = GetColorTransferFunction("height")
+            lut.ApplyPreset("Viridis (matplotlib)", True)
+            rep.RescaleTransferFunctionToDataRange(True)
+            view.ResetCamera()
+            Render(view)
+            # The same polylines, radius and lookup table through the VTK-level mapper.
+            mapper = sightline.vtkSightlineTubeMapper()
+            mapper.SetInputDataObject(height.GetClientSideObject().GetOutputDataObject(0))
+            mapper.SetRadius(0.6)
+            mapper.SetVaryRadius(0)
+            mapper.SelectColorArray("height")
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SetLookupTable(lut.GetClientSideObject())
+            mapper.SetUseLookupTableScalarRange(1)
+            actor = vtkActor()
+            actor.SetMapper(mapper)
+            actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+            pixels = self.compare_with_vtk(view, height, rep, actor, "TubesTrk")
+            # Coloured, not white: ParaView turns InterpolateScalarsBeforeMapping on.
+            covered = np.abs(pixels.astype(int) - np.round(np.array(view.Background) * 255)).max(axis=2) > 8
+            self.assertGreater(np.std(pixels[covered].astype(float), axis=0).max(), 10)
+            # A radius change reaches the mapper.
+            rep.TubeRadius = 1.2
+            Render(view)
+            self.assertGreater(covered_fraction(view_image(view), view.Background),
+                               covered.mean() * 1.2)
+            # Opacity below 1 goes through the exact translucent union.
+            rep.Opacity = 0.4
+            Render(view)
+            translucent = view_image(view)
+            save_png(translucent, "ParaViewTubesTrkTranslucent.png")
+            self.assertTrue(rep.GetClientSideObject().GetActiveRepresentation().GetSightlineMapper().IsTranslucentFor(
+                rep.GetClientSideObject().GetActiveRepresentation().GetActor()))
+            Delete(view)
+
+    def test_sh_glyphs_from_mif(self):
+        reader = OpenDataFile(os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"))
+        view = make_view()
+        rep = Show(reader, view)
+        rep.Representation = "Sightline SH Glyphs"
+        rep.SHCoefficients = ["POINTS", "SHCoefficients"]
+        rep.SHBasis = "tournier07 (MRtrix3)"
+        rep.SHLegacyBasis = 0
+        rep.GlyphSliceOrientation = "Axial"
+        rep.GlyphSlice = -1
+        view.CameraPosition = [0, 0, 1]
+        view.CameraFocalPoint = [0, 0, 0]
+        view.CameraViewUp = [0, 1, 0]
+        view.ResetCamera()
+        Render(view)
+        mapper = sightline.vtkSightlineSHGlyphMapper()
+        mapper.SetInputDataObject(reader.GetClientSideObject().GetOutputDataObject(0))
+        mapper.SetCoefficientArrayName("SHCoefficients")
+        mapper.SetBasisToMRtrix3()
+        mapper.SetSliceOrientationToAxial()
+        mapper.SetSliceNumber(-1)
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+        self.compare_with_vtk(view, reader, rep, actor, "SHGlyphsMif")
+        Delete(view)
+
+    def test_spheres_and_tubes_from_swc(self):
+        reader = OpenDataFile(os.path.join(SWC_DIR, "neuron_three_point_soma.swc"))
+        view = make_view()
+        rep = Show(reader, view)
+        rep.Representation = "Sightline Spheres"
+        rep.SphereRadiusArray = ["POINTS", "Radius"]
+        view.ResetCamera()
+        Render(view)
+        mapper = sightline.vtkSightlineSphereMapper()
+        mapper.SetInputDataObject(reader.GetClientSideObject().GetOutputDataObject(0))
+        mapper.SetRadiusArrayName("Radius")
+        mapper.ScalarVisibilityOff()  # ParaView's default: Solid Color
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+        self.compare_with_vtk(view, reader, rep, actor, "SpheresSwc")
+
+        rep.Representation = "Sightline Tubes"
+        rep.TubeRadiusArray = ["POINTS", "Radius"]
+        rep.TubePredecessorArray = ["POINTS", "ParentIndex"]
+        Render(view)
+        tubes = sightline.vtkSightlineTubeMapper()
+        tubes.SetInputDataObject(reader.GetClientSideObject().GetOutputDataObject(0))
+        tubes.SetRadiusArrayName("Radius")
+        tubes.SetPredecessorArrayName("ParentIndex")
+        tubes.ScalarVisibilityOff()
+        actor = vtkActor()
+        actor.SetMapper(tubes)
+        actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+        self.compare_with_vtk(view, reader, rep, actor, "TubesSwc")
+        Delete(view)
+
+    def test_prem_as_a_spherical_volume(self):
+        source = SightlineSphericalField()  # noqa: F821  (added by LoadPlugin)
+        source.Field = "PREM Density"
+        source.RadialResolution = 24
+        source.PolarResolution = 24
+        source.AzimuthalResolution = 48
+        source.AzimuthRange = [0.0, 4.71238898038469]  # a wedge cut out, to see inside
+        view = make_view()
+        rep = Show(source, view)
+        rep.Representation = "Sightline Spherical Volume"
+        ColorBy(rep, ("CELLS", "density"))
+        lut = GetColorTransferFunction("density")
+        lut.ApplyPreset("Inferno (matplotlib)", True)
+        rep.RescaleTransferFunctionToDataRange(True)
+        opacity = GetOpacityTransferFunction("density")
+        rep.ScalarOpacityUnitDistance = 0.05
+        view.CameraPosition = [3, -2, 2]
+        view.CameraFocalPoint = [0, 0, 0]
+        view.CameraViewUp = [0, 0, 1]
+        view.ResetCamera()
+        Render(view)
+        mapper = sightline.vtkSightlineSphericalVolumeMapper()
+        mapper.SetInputDataObject(source.GetClientSideObject().GetOutputDataObject(0))
+        mapper.SetScalarModeToUseCellFieldData()
+        mapper.SelectScalarArray("density")
+        prop = vtkVolumeProperty()
+        prop.SetColor(lut.GetClientSideObject())
+        prop.SetScalarOpacity(opacity.GetClientSideObject())
+        prop.SetScalarOpacityUnitDistance(0.05)
+        volume = vtkVolume()
+        volume.SetMapper(mapper)
+        volume.SetProperty(prop)
+        self.compare_with_vtk(view, source, rep, volume, "PREMVolume")
+        Delete(view)
+
+
+if __name__ == "__main__":
+    result = unittest.main(argv=[sys.argv[0], "-v"], exit=False).result
+    sys.exit(0 if result.wasSuccessful() else 1)

@@ -124,6 +124,12 @@ bool vtkSightlineMapper::UpdateScene()
 }
 
 //------------------------------------------------------------------------------
+int vtkSightlineMapper::CanUseTextureMapForColoring(vtkDataObject* vtkNotUsed(input))
+{
+  return 0;
+}
+
+//------------------------------------------------------------------------------
 double* vtkSightlineMapper::GetBounds()
 {
   // UpdateScene reports a missing input: a renderer asks for bounds before it draws, and an

@@ -39,6 +39,11 @@
  * peeling) are blended over it regardless of depth. Other mappers render opaque with a
  * warning.
  *
+ * Scalar colouring gives every primitive the colour of its point (or cell), mapped through
+ * the lookup table; InterpolateScalarsBeforeMapping has no meaning for ray-traced primitives
+ * (they have no texture coordinates) and is ignored, so colours are the same with it on, as
+ * ParaView sets it.
+ *
  * Limitations: positional and spot lights are treated as directional lights along their axis;
  * translucent surfaces cast no shadows.
  *
@@ -91,6 +96,12 @@ public:
    */
   double* GetBounds() VTK_SIZEHINT(6) override;
   using vtkAbstractMapper3D::GetBounds;
+
+  /**
+   * Always 0: ray-traced primitives have no texture coordinates, so scalars are mapped to
+   * colours per point (or cell) whatever InterpolateScalarsBeforeMapping says.
+   */
+  int CanUseTextureMapForColoring(vtkDataObject* input) override;
 
   /**
    * The mapper's own geometry has no translucent parts; vtkActor makes the whole actor

@@ -6,7 +6,6 @@
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkImageData.h"
-#include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
@@ -98,13 +97,6 @@ vtkSightlineGlyphMapper::~vtkSightlineGlyphMapper()
   this->SetMaskArrayName(nullptr);
   this->SetDataToWorldMatrix(nullptr);
   this->SetDirectionToWorldMatrix(nullptr);
-}
-
-//------------------------------------------------------------------------------
-int vtkSightlineGlyphMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -210,7 +202,7 @@ int vtkSightlineGlyphMapper::GetSliceAxis()
   {
     this->GetInputAlgorithm()->Update();
   }
-  auto* image = vtkImageData::SafeDownCast(this->GetInputDataObject(0, 0));
+  auto* image = vtkImageData::SafeDownCast(this->GetDrawnInput());
   if (!image)
   {
     return -1;
@@ -385,11 +377,11 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::BuildGeometry()
   std::fill(this->DrawnExtent, this->DrawnExtent + 6, 0);
   this->DrawnExtent[1] = this->DrawnExtent[3] = this->DrawnExtent[5] = -1;
 
-  vtkDataSet* input = vtkDataSet::SafeDownCast(this->GetInputDataObject(0, 0));
+  // Called only with points to draw (an empty input draws nothing, quietly).
+  vtkDataSet* input = this->GetDrawnInput();
   const vtkIdType points = input ? input->GetNumberOfPoints() : 0;
   if (points == 0)
   {
-    vtkErrorMacro(<< "The input has no points: there are no glyphs to render.");
     return nullptr;
   }
   if (!(std::isfinite(this->ScaleFactor) && this->ScaleFactor > 0.0))

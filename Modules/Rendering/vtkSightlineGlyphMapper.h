@@ -305,7 +305,6 @@ protected:
   vtkSightlineGlyphMapper();
   ~vtkSightlineGlyphMapper() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
 
 #ifndef __VTK_WRAP__
   /**

@@ -2,12 +2,14 @@
 #include "vtkSightlineMapper.h"
 
 #include "SightlineKernelConversions.h"
+#include "SightlineMapperInput.h"
 #include "SightlineWindowFrame.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkDataSet.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
@@ -40,6 +42,19 @@ public:
   // translucent one.
   std::unique_ptr<sightline::EmbreeScene> EmptyScene;
 
+  // The input as the dataset drawn; made on first use, with the subclass's policy.
+  std::unique_ptr<SightlineMapperInput> Input;
+  SightlineMapperInput& InputOf(vtkSightlineMapper* self)
+  {
+    if (!this->Input)
+    {
+      this->Input = std::make_unique<SightlineMapperInput>(self->GetDrawnInputType(),
+        self->AppendsCompositeLeaves() ? SightlineMapperInput::Leaves::Append
+                                       : SightlineMapperInput::Leaves::First);
+    }
+    return *this->Input;
+  }
+
   bool WarnedOpacity = false;
   bool WarnedPositionalLight = false;
 };
@@ -56,35 +71,27 @@ vtkSightlineMapper::~vtkSightlineMapper() = default;
 //------------------------------------------------------------------------------
 int vtkSightlineMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), this->GetDrawnInputType());
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  // Without an input the mapper draws nothing; updating it is no error.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 
 //------------------------------------------------------------------------------
 bool vtkSightlineMapper::UpdateScene()
 {
-  if (this->GetNumberOfInputConnections(0) < 1)
-  {
-    vtkErrorMacro(<< "No input connection: set one with SetInputConnection or SetInputDataObject.");
-    return false;
-  }
-  if (!this->Static)
-  {
-    this->GetInputAlgorithm()->Update();
-  }
-  vtkDataObject* input = this->GetInputDataObject(0, 0);
-  if (!input)
-  {
-    vtkErrorMacro(<< "The input is null.");
-    return false;
-  }
+  // No input, or one without points, draws nothing, quietly: ParaView creates mappers before
+  // data arrives, and an empty block is ordinary.
+  vtkInternals& in = *this->Internals;
+  SightlineMapperInput& input = in.InputOf(this);
+  vtkDataSet* drawn = input.Get(this, !this->Static);
 
-  vtkMTimeType changed = std::max(this->GetMTime(), input->GetMTime());
+  vtkMTimeType changed = std::max(this->GetMTime(), input.GetInputTime(this));
   if (this->ScalarVisibility && this->LookupTable)
   {
     changed = std::max(changed, this->LookupTable->GetMTime());
   }
-  vtkInternals& in = *this->Internals;
   if (changed > in.BuildTime.GetMTime())
   {
     in.Scene.reset();
@@ -94,7 +101,7 @@ bool vtkSightlineMapper::UpdateScene()
     {
       vtkNew<vtkTimerLog> timer;
       timer->StartTimer();
-      in.Geometry = this->BuildGeometry();
+      in.Geometry = drawn ? this->BuildGeometry() : nullptr;
       timer->StopTimer();
       this->LastGeometrySeconds = timer->GetElapsedTime();
       if (in.Geometry && in.Geometry->size() > 0)
@@ -124,10 +131,28 @@ bool vtkSightlineMapper::UpdateScene()
 }
 
 //------------------------------------------------------------------------------
+vtkDataSet* vtkSightlineMapper::GetDrawnInput()
+{
+  return this->Internals->InputOf(this).Get(this, false);
+}
+
+//------------------------------------------------------------------------------
+const std::vector<vtkIdType>& vtkSightlineMapper::GetLeafPointOffsets()
+{
+  return this->Internals->InputOf(this).GetLeafPointOffsets();
+}
+
+//------------------------------------------------------------------------------
+int vtkSightlineMapper::CanUseTextureMapForColoring(vtkDataObject* vtkNotUsed(input))
+{
+  return 0;
+}
+
+//------------------------------------------------------------------------------
 double* vtkSightlineMapper::GetBounds()
 {
-  // UpdateScene reports a missing input: a renderer asks for bounds before it draws, and an
-  // actor without bounds is culled before Render() could say why.
+  // Uninitialized bounds without an input or geometry (UpdateScene reports bad input, not
+  // emptiness): a renderer asks for bounds before it draws.
   this->UpdateScene();
   std::copy(this->Internals->Bounds, this->Internals->Bounds + 6, this->Bounds);
   return this->Bounds;

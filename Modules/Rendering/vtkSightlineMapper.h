@@ -39,6 +39,19 @@
  * peeling) are blended over it regardless of depth. Other mappers render opaque with a
  * warning.
  *
+ * Input: a dataset of the type the subclass draws, or a composite dataset
+ * (vtkMultiBlockDataSet, vtkPartitionedDataSet, vtkPartitionedDataSetCollection) of them, as
+ * ParaView passes. Point-set mappers (spheres, tubes) draw the union of the non-empty leaves;
+ * image mappers (glyphs) draw one leaf, the first with a warning when there are several.
+ * Leaves of another type are left out with an error naming their type. An input without
+ * points (or no input at all) draws nothing, quietly, and GetBounds() is then uninitialized
+ * (vtkMath::AreBoundsInitialized() is false).
+ *
+ * Scalar colouring gives every primitive the colour of its point (or cell), mapped through
+ * the lookup table; InterpolateScalarsBeforeMapping has no meaning for ray-traced primitives
+ * (they have no texture coordinates) and is ignored, so colours are the same with it on, as
+ * ParaView sets it.
+ *
  * Limitations: positional and spot lights are treated as directional lights along their axis;
  * translucent surfaces cast no shadows.
  *
@@ -64,6 +77,7 @@ struct RenderOptions;
 #endif
 
 class vtkCamera;
+class vtkDataSet;
 class vtkLightCollection;
 
 class SIGHTLINERENDERING_EXPORT vtkSightlineMapper
@@ -91,6 +105,12 @@ public:
    */
   double* GetBounds() VTK_SIZEHINT(6) override;
   using vtkAbstractMapper3D::GetBounds;
+
+  /**
+   * Always 0: ray-traced primitives have no texture coordinates, so scalars are mapped to
+   * colours per point (or cell) whatever InterpolateScalarsBeforeMapping says.
+   */
+  int CanUseTextureMapForColoring(vtkDataObject* input) override;
 
   /**
    * The mapper's own geometry has no translucent parts; vtkActor makes the whole actor
@@ -214,7 +234,31 @@ protected:
    */
   bool CheckPointArray(vtkDataArray* array, const std::string& label, vtkIdType points,
     int components, const char* consequence, bool exactComponents = false);
+
+  /**
+   * With appended composite leaves: the id in GetDrawnInput() of the first point of each
+   * leaf (a single 0 otherwise), for point ids that a leaf's arrays hold.
+   */
+  const std::vector<vtkIdType>& GetLeafPointOffsets();
+
 #endif
+
+  /**
+   * The input as the one dataset this mapper draws (SightlineMapperInput): a dataset of
+   * GetDrawnInputType() as it is, a composite's non-empty leaves appended
+   * (AppendsCompositeLeaves()) or its first one, or nullptr when there is nothing to draw
+   * (no input, no points). Does not update the pipeline: UpdateScene() does, before
+   * BuildGeometry().
+   */
+  vtkDataSet* GetDrawnInput();
+
+  /**
+   * The VTK class of the datasets this mapper draws (default "vtkDataSet") and whether the
+   * leaves of a composite input are all drawn, appended into one dataset (default false: one
+   * leaf). Constant for a mapper class.
+   */
+  virtual const char* GetDrawnInputType() { return "vtkDataSet"; }
+  virtual bool AppendsCompositeLeaves() { return false; }
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 

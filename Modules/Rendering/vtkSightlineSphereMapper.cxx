@@ -4,7 +4,6 @@
 #include "SightlineKernelConversions.h"
 
 #include "vtkDataArray.h"
-#include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -27,20 +26,13 @@ vtkSightlineSphereMapper::~vtkSightlineSphereMapper()
 }
 
 //------------------------------------------------------------------------------
-int vtkSightlineSphereMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-  return 1;
-}
-
-//------------------------------------------------------------------------------
 std::shared_ptr<sightline::Geometry> vtkSightlineSphereMapper::BuildGeometry()
 {
-  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetInputDataObject(0, 0));
+  // Called only with points to draw (an empty input draws nothing, quietly).
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
   const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
   if (count == 0)
   {
-    vtkWarningMacro(<< "The input has no points: there are no spheres to render.");
     return nullptr;
   }
 

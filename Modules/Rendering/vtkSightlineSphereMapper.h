@@ -57,7 +57,8 @@ protected:
   vtkSightlineSphereMapper();
   ~vtkSightlineSphereMapper() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
+  const char* GetDrawnInputType() override { return "vtkPointSet"; }
+  bool AppendsCompositeLeaves() override { return true; }
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
 #endif

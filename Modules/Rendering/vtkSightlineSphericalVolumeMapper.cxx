@@ -2,6 +2,7 @@
 #include "vtkSightlineSphericalVolumeMapper.h"
 
 #include "SightlineKernelConversions.h"
+#include "SightlineMapperInput.h"
 #include "SightlineWindowFrame.h"
 
 #include "vtkCamera.h"
@@ -50,6 +51,10 @@ public:
   vtkMTimeType UnshadedPropertyTime = 0;
   vtkMTimeType UnshadedGridTime = 0;
 
+  // The input as the grid drawn: one rectilinear grid, or the first non-empty one of a
+  // composite input.
+  SightlineMapperInput Input{ "vtkRectilinearGrid", SightlineMapperInput::Leaves::First };
+
   // The window path: frame cache, compositing, interactive subsampling.
   SightlineWindowFrame Window;
   bool WarnedShadedPoints = false;
@@ -71,6 +76,9 @@ int vtkSightlineSphericalVolumeMapper::FillInputPortInformation(
   int vtkNotUsed(port), vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkRectilinearGrid");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  // Without an input the mapper draws nothing; updating it is no error.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
 }
 
@@ -183,20 +191,16 @@ sightline::TransferSample SampleTransfer(vtkVolumeProperty* property, double v)
 bool vtkSightlineSphericalVolumeMapper::UpdateScene()
 {
   vtkInternals& in = *this->Internals;
-  if (this->GetNumberOfInputConnections(0) > 0)
-  {
-    this->GetInputAlgorithm()->Update();
-  }
-  auto* input = vtkRectilinearGrid::SafeDownCast(this->GetInputDataObject(0, 0));
+  // No input, or a grid without points, draws nothing, quietly (ParaView creates mappers
+  // before data arrives); a composite input gives its first non-empty grid.
+  auto* input = vtkRectilinearGrid::SafeDownCast(in.Input.Get(this));
   if (!input)
   {
-    vtkErrorMacro(<< "No input: connect a vtkRectilinearGrid whose x, y, z are r, theta, phi "
-                     "(or rho, phi, z).");
     in.Traversal.reset();
     in.Cylinder.reset();
     return false;
   }
-  if ((in.Traversal || in.Cylinder) && in.GridTime > input->GetMTime() &&
+  if ((in.Traversal || in.Cylinder) && in.GridTime > in.Input.GetInputTime(this) &&
     in.GridTime > this->GetMTime())
   {
     return true;

@@ -42,7 +42,12 @@
  *
  * Bad input (non-monotonic coordinates, r < 0, polar angles outside their range, an azimuth
  * span over 2 pi, missing scalars, a wrong number of values) is reported with vtkErrorMacro and
- * nothing is drawn. NaN scalars are treated as empty cells (with a warning).
+ * nothing is drawn. NaN scalars are treated as empty cells (with a warning). No input or a
+ * grid without points draws nothing, quietly, and GetBounds() is then uninitialized.
+ *
+ * Composite input (vtkMultiBlockDataSet, vtkPartitionedDataSet(Collection), as ParaView
+ * passes): its one non-empty vtkRectilinearGrid leaf is drawn; with several, the first, with a
+ * warning naming their count; leaves of another type are left out with an error.
  *
  * @sa vtkSightlineSphericalFieldSource vtkSightlineMapper vtkFixedPointVolumeRayCastMapper
  */
@@ -222,8 +227,8 @@ private:
 #ifndef __VTK_WRAP__
   // SightlineTracer, for the window frame and vtkSightlineImageRenderer.
   Pass GetPass(vtkProp3D*) override { return Pass::Volumetric; }
-  // Brings the kernel grid and cell values up to date with the input; false (after an error)
-  // when there is nothing to draw.
+  // Brings the kernel grid and cell values up to date with the input; false when there is
+  // nothing to draw (after an error, unless the input is empty).
   bool UpdateScene() override;
   vtkMTimeType GetSceneTime() override;
 #endif

@@ -6,7 +6,6 @@
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
-#include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -31,12 +30,6 @@ vtkSightlineTubeMapper::~vtkSightlineTubeMapper()
   this->SetPredecessorArrayName(nullptr);
 }
 
-int vtkSightlineTubeMapper::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-  return 1;
-}
-
 int vtkSightlineTubeMapper::GetVaryRadius()
 {
   if (this->VaryRadius >= 0)
@@ -50,11 +43,11 @@ int vtkSightlineTubeMapper::GetVaryRadius()
 std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 {
   this->NumberOfLinks = 0;
-  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetInputDataObject(0, 0));
+  // Called only with points to draw (an empty input draws nothing, quietly).
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
   const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
   if (count == 0)
   {
-    vtkWarningMacro(<< "The input has no points: there are no tubes to render.");
     return nullptr;
   }
 
@@ -120,17 +113,28 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     }
     // A predecessor is a point index or -1: anything else (NaN, a fraction, a value no index
     // can have) is named as it is, not as whatever an integer conversion makes of it.
+    // The leaves of a composite input are appended: a predecessor is an index into its own
+    // leaf's points, which start at that leaf's offset.
+    const std::vector<vtkIdType>& offsets = this->GetLeafPointOffsets();
+    std::size_t leaf = 0;
     for (vtkIdType i = 0; i < count; ++i)
     {
+      while (leaf + 1 < offsets.size() && offsets[leaf + 1] <= i)
+      {
+        ++leaf;
+      }
+      const vtkIdType first = offsets.empty() ? 0 : offsets[leaf];
+      const vtkIdType end = leaf + 1 < offsets.size() ? offsets[leaf + 1] : count;
       const double v = array->GetComponent(i, 0);
-      if (!(v >= -1.0 && v < double(count)) || v != std::floor(v))
+      if (!(v >= -1.0 && v < double(end - first)) || v != std::floor(v))
       {
         vtkErrorMacro(<< "The " << label << " gives point " << i << " the predecessor " << v
-                      << ", which is not -1 (none) or a point index in [0, " << count - 1
-                      << "]; no tubes rendered.");
+                      << ", which is not -1 (none) or a point index in [0, " << end - first - 1
+                      << "]" << (offsets.size() > 1 ? " of its leaf" : "")
+                      << "; no tubes rendered.");
         return nullptr;
       }
-      add(i, static_cast<std::int64_t>(v));
+      add(i, v < 0.0 ? -1 : static_cast<std::int64_t>(v) + first);
     }
   }
   else

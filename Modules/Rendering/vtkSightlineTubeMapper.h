@@ -11,6 +11,8 @@
  * - or, with PredecessorArrayName set (e.g. "ParentIndex" of vtkSightlineSWCReader), each point
  *   linked to the point whose index the array gives (-1: none); bifurcations are points named by
  *   several others. Cyclic links and indices out of range are errors.
+ * - or a composite dataset of these (vtkMultiBlockDataSet, vtkPartitionedDataSet...): the
+ *   tubes of every non-empty leaf; a leaf's predecessor indices refer to its own points.
  *
  * Radius: the constant Radius, or from a point array (RadiusArrayName, or the active scalars)
  * as vtkTubeFilter's VaryRadius modes do: VARY_RADIUS_BY_ABSOLUTE_SCALAR (radius = value times
@@ -125,7 +127,8 @@ protected:
   vtkSightlineTubeMapper();
   ~vtkSightlineTubeMapper() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
+  const char* GetDrawnInputType() override { return "vtkPointSet"; }
+  bool AppendsCompositeLeaves() override { return true; }
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
 #endif

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Installs everything Sightline needs from Debian bookworm's packages.
-# Do not add paraview-dev or python3-paraview: they replace Debian's VTK 9.1.
+# ParaView (the plugin's configuration) comes without its recommends: python3-paraview would
+# replace Debian's VTK 9.1 (scripts/paraview-prefix.sh unpacks it privately instead).
 set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
@@ -13,6 +14,7 @@ packages=(
   python3-dipy python3-nibabel        # real data: DIPY's tractography, NIfTI/TrackVis readers
   mrtrix3                             # sh2amp: an independent reference for the MRtrix3 SH basis
   clang-14 libclang-rt-14-dev         # sanitizer build and libFuzzer targets (scripts/test.sh)
+  paraview paraview-dev               # ParaView 5.11 and its VTK 9.2: the plugin's configuration
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -19,6 +19,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SIGHTLINE_BUILD_DIR:-$root/build}"
 asan_build="${SIGHTLINE_SANITIZE_BUILD_DIR:-$root/build-asan}"
+pv_build="${SIGHTLINE_PARAVIEW_BUILD_DIR:-$root/build-paraview}"
 "$root/scripts/install-dependencies.sh"
 
 xvfb_pid=""
@@ -54,6 +55,17 @@ status=0
 (cd "$build" && ctest --output-on-failure --timeout 600 "$@") || status=$?
 tested=$(date +%s)
 echo "build: $((built - start)) s, tests: $((tested - built)) s"
+
+# The ParaView configuration: the same modules against ParaView 5.11's VTK 9.2, the plugin, and
+# its pvbatch tests (label paraview). SIGHTLINE_PARAVIEW=0 skips it.
+if [ "${SIGHTLINE_PARAVIEW:-1}" != 0 ]; then
+  pv_start=$(date +%s)
+  SIGHTLINE_BUILD_DIR="$pv_build" "$root/scripts/build.sh" --paraview
+  pv_built=$(date +%s)
+  (cd "$pv_build" && ctest --output-on-failure --timeout 600) || status=$?
+  tested=$(date +%s)
+  echo "ParaView configuration: build $((pv_built - pv_start)) s, tests $((tested - pv_built)) s"
+fi
 
 if [ "${SIGHTLINE_SANITIZE:-1}" != 0 ]; then
   CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$asan_build" -G Ninja \

@@ -15,10 +15,12 @@ import unittest
 import zipfile
 
 import numpy as np
-from paraview.simple import (ColorBy, CreateView, Delete, GetColorTransferFunction,
-                             GetOpacityTransferFunction, LoadPlugin, OpenDataFile, Render,
-                             SetActiveView, Show, Calculator)
-from vtkmodules.util.numpy_support import vtk_to_numpy
+from paraview.simple import (Calculator, ColorBy, CreateView, Delete, GetColorTransferFunction,
+                             GetOpacityTransferFunction, GroupDatasets, LoadPlugin, OpenDataFile,
+                             PVTrivialProducer, Render, SetActiveView, Show, Threshold, Transform)
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkRenderer, vtkRenderWindow, vtkVolume, vtkWindowToImageFilter
 from vtkmodules.vtkRenderingCore import vtkVolumeProperty
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
@@ -190,11 +192,11 @@ class ParaViewPluginTest(unittest.TestCase):
                                covered.mean() * 1.2)
             # Opacity below 1 goes through the exact translucent union.
             rep.Opacity = 0.4
-            Render(view)
-            translucent = view_image(view)
-            save_png(translucent, "ParaViewTubesTrkTranslucent.png")
-            self.assertTrue(rep.GetClientSideObject().GetActiveRepresentation().GetSightlineMapper().IsTranslucentFor(
-                rep.GetClientSideObject().GetActiveRepresentation().GetActor()))
+            rep.TubeRadius = 0.6
+            sub = rep.GetClientSideObject().GetActiveRepresentation()
+            self.assertTrue(sub.GetSightlineMapper().IsTranslucentFor(sub.GetActor()))
+            actor.GetProperty().SetOpacity(0.4)
+            self.compare_with_vtk(view, height, rep, actor, "TubesTrkTranslucent")
             Delete(view)
 
     def test_sh_glyphs_from_mif(self):
@@ -256,6 +258,92 @@ class ParaViewPluginTest(unittest.TestCase):
         actor.SetMapper(tubes)
         actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
         self.compare_with_vtk(view, reader, rep, actor, "TubesSwc")
+        Delete(view)
+
+    def test_tensor_glyphs_from_numpy_tensors(self):
+        # A 4x4x1 image of random symmetric positive-definite tensors (VTK's 9-component
+        # layout), handed to ParaView through a trivial producer as a user's Python source would.
+        rng = np.random.default_rng(7)
+        tensors = []
+        for _ in range(16):
+            a = rng.normal(size=(3, 3))
+            tensors.append((a @ a.T + 0.3 * np.eye(3)).ravel())
+        image = vtkImageData()
+        image.SetDimensions(4, 4, 1)
+        image.SetSpacing(3.0, 3.0, 3.0)
+        array = numpy_to_vtk(np.asarray(tensors), deep=1)
+        array.SetName("tensors")
+        image.GetPointData().AddArray(array)
+        producer = PVTrivialProducer()
+        producer.GetClientSideObject().SetOutput(image)
+        view = make_view()
+        rep = Show(producer, view)
+        rep.Representation = "Sightline Tensor Glyphs"
+        ColorBy(rep, None)
+        rep.TensorArray = ["POINTS", "tensors"]
+        rep.TensorShape = "Ellipsoid"
+        rep.GlyphScale = 1.2
+        view.CameraPosition = [4.5, 4.5, 30]
+        view.CameraFocalPoint = [4.5, 4.5, 0]
+        view.CameraViewUp = [0, 1, 0]
+        view.ResetCamera()
+        Render(view)
+        mapper = sightline.vtkSightlineTensorGlyphMapper()
+        mapper.SetInputDataObject(image)
+        mapper.SetTensorArrayName("tensors")
+        mapper.SetShapeToEllipsoid()
+        mapper.SetScaleFactor(1.2)
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+        self.compare_with_vtk(view, producer, rep, actor, "TensorGlyphs")
+        Delete(view)
+
+    def test_multiblock_and_empty_inputs(self):
+        # Two SWC neurons grouped into a multiblock, as ParaView's Group Datasets makes them,
+        # draw like the two neurons as one data set; an empty input draws nothing, quietly.
+        first = OpenDataFile(os.path.join(SWC_DIR, "neuron_three_point_soma.swc"))
+        moved = Transform(Input=first)
+        moved.Transform.Translate = [30.0, 0.0, 0.0]
+        group = GroupDatasets(Input=[first, moved])
+        view = make_view()
+        rep = Show(group, view)
+        rep.Representation = "Sightline Spheres"
+        ColorBy(rep, None)
+        rep.SphereRadiusArray = ["POINTS", "Radius"]
+        view.ResetCamera()
+        Render(view)
+        from vtkmodules.vtkFiltersCore import vtkAppendPolyData
+        append = vtkAppendPolyData()
+        append.AddInputData(first.GetClientSideObject().GetOutputDataObject(0))
+        append.AddInputData(moved.GetClientSideObject().GetOutputDataObject(0))
+        append.Update()
+        mapper = sightline.vtkSightlineSphereMapper()
+        mapper.SetInputDataObject(append.GetOutput())
+        mapper.SetRadiusArrayName("Radius")
+        mapper.ScalarVisibilityOff()
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+        self.compare_with_vtk(view, group, rep, actor, "SpheresMultiblock")
+
+        messages = vtkStringOutputWindow()
+        previous = vtkOutputWindow.GetInstance()
+        vtkOutputWindow.SetInstance(messages)
+        try:
+            nothing = Threshold(Input=first, Scalars=["POINTS", "Radius"])
+            nothing.LowerThreshold = 1e9
+            nothing.UpperThreshold = 2e9
+            empty_view = make_view()
+            empty = Show(nothing, empty_view)
+            empty.Representation = "Sightline Spheres"
+            Render(empty_view)
+            self.assertEqual(covered_fraction(view_image(empty_view), empty_view.Background), 0.0)
+        finally:
+            vtkOutputWindow.SetInstance(previous)
+        self.assertNotIn("ERROR", messages.GetOutput())
+        self.assertNotIn("Warning", messages.GetOutput())
+        Delete(empty_view)
         Delete(view)
 
     def test_prem_as_a_spherical_volume(self):

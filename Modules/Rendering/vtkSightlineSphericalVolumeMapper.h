@@ -44,6 +44,10 @@
  * span over 2 pi, missing scalars, a wrong number of values) is reported with vtkErrorMacro and
  * nothing is drawn. NaN scalars are treated as empty cells (with a warning).
  *
+ * Selection: the volume cannot be picked. In vtkHardwareSelector's passes it draws nothing
+ * (neither ids nor depth), so it neither is selected nor hides what is behind it, as VTK's
+ * own volume mappers.
+ *
  * @sa vtkSightlineSphericalFieldSource vtkSightlineMapper vtkFixedPointVolumeRayCastMapper
  */
 #ifndef vtkSightlineSphericalVolumeMapper_h

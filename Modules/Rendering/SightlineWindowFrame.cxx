@@ -230,7 +230,9 @@ void SightlineWindowFrame::RenderSelection(vtkAbstractMapper3D* mapper, Sightlin
   // vtkHardwareSelector decodes attribute ids without an offset: "nothing there" is the actor
   // pass's black). A primitive without an id for the selector's field association (a sphere in
   // no vertex cell, in a cell selection) is drawn black in the actor pass, with its depth: it
-  // hides what is behind it but selects nothing.
+  // hides what is behind it but selects nothing. A prop pick (ActorPassOnly, as vtkPropPicker's)
+  // asks for no ids: every primitive counts.
+  const bool propsOnly = selector->GetActorPassOnly();
   const std::vector<vtkIdType>& selectable =
     selector->GetFieldAssociation() == vtkDataObject::FIELD_ASSOCIATION_POINTS ? ids->PointIds
                                                                                : ids->CellIds;
@@ -268,7 +270,8 @@ void SightlineWindowFrame::RenderSelection(vtkAbstractMapper3D* mapper, Sightlin
     }
     std::uint8_t* rgba = &this->SelectionRgba[4 * i];
     rgba[3] = 255;
-    const bool hasId = hit.primitive < selectable.size() && selectable[hit.primitive] >= 0;
+    const bool hasId =
+      propsOnly || (hit.primitive < selectable.size() && selectable[hit.primitive] >= 0);
     if (!attribute)
     {
       if (pass != vtkHardwareSelector::ACTOR_PASS || hasId)

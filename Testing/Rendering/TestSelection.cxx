@@ -22,6 +22,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkPropPicker.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -245,6 +246,36 @@ TEST(Selection, PolygonInFrontWinsOverASphere)
   ExpectSelected(SelectPixel(scene.renderer, ProjectToPixel(scene.renderer, { -2.5, 1.9, -2.0 }),
                    kCells),
     backActor, 0, "polygon behind, beside the sphere");
+}
+
+TEST(Selection, PropPickerPicksSpheresAndThePolygonInFront)
+{
+  // vtkPropPicker picks through the hardware selector's actor pass: spheres in no cell count.
+  MapperScene<vtkSightlineSphereMapper> scene(kSize, kSize);
+  scene.mapper->SetInputDataObject(MakeSpheres({ { -1.0, 0, 0 }, { 1.0, 0, 0 } }, { 0.6, 0.6 }));
+  scene.mapper->SetRadiusArrayName("radius");
+  SetUpView(scene);
+  vtkNew<vtkPlaneSource> front;
+  front->SetOrigin(0.5, -0.5, 2.0);
+  front->SetPoint1(1.3, -0.5, 2.0);
+  front->SetPoint2(0.5, 0.3, 2.0);
+  vtkNew<vtkPolyDataMapper> frontMapper;
+  frontMapper->SetInputConnection(front->GetOutputPort());
+  vtkNew<vtkActor> frontActor;
+  frontActor->SetMapper(frontMapper);
+  scene.renderer->AddActor(frontActor);
+  scene.window->Render();
+
+  vtkNew<vtkPropPicker> picker;
+  const auto left = ProjectToPixel(scene.renderer, { -1.0, 0, 0 });
+  ASSERT_TRUE(picker->Pick(left[0], left[1], 0, scene.renderer));
+  EXPECT_EQ(picker->GetViewProp(), scene.actor.Get());
+  // The pick position is on the sphere's near surface (z = 0.6 at its centre).
+  EXPECT_NEAR(picker->GetPickPosition()[2], 0.6, 0.05);
+  const auto right = ProjectToPixel(scene.renderer, { 1.0, 0, 0 });
+  ASSERT_TRUE(picker->Pick(right[0], right[1], 0, scene.renderer));
+  EXPECT_EQ(picker->GetViewProp(), frontActor.Get());
+  EXPECT_FALSE(picker->Pick(2, 2, 0, scene.renderer));
 }
 
 TEST(Selection, SHGlyphsSelectTheirVoxel)

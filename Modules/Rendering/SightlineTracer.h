@@ -59,6 +59,30 @@ public:
   virtual bool RayTrace(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights,
     int width, int height, sightline::Framebuffer& framebuffer,
     const std::vector<float>* depthLimit = nullptr) = 0;
+
+  /// Hardware selection (vtkHardwareSelector): the input ids each traced primitive stands for,
+  /// indexed as the kernel's primitives (sightline::PixelPrimitive::primitive); -1 for none.
+  struct SelectionIds
+  {
+    std::vector<vtkIdType> PointIds;
+    std::vector<vtkIdType> CellIds;
+    vtkIdType MaximumPointId = -1;
+    vtkIdType MaximumCellId = -1;
+  };
+
+  /// The ids of the current scene's primitives (call after UpdateScene()), or null when this
+  /// tracer's props cannot be selected (the default).
+  virtual const SelectionIds* GetSelectionIds() { return nullptr; }
+
+  /// For a selection pass: traces `prop` as RayTrace does, but always as an opaque surface
+  /// (a translucent union gives its nearest surface), and records the primitive each pixel
+  /// shows in framebuffer.Primitives. Only called when GetSelectionIds() is not null.
+  virtual bool RayTraceSelection(vtkProp3D* /*prop*/, vtkCamera* /*camera*/,
+    vtkLightCollection* /*lights*/, int /*width*/, int /*height*/,
+    sightline::Framebuffer& /*framebuffer*/)
+  {
+    return false;
+  }
 };
 
 #endif

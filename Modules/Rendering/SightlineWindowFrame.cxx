@@ -7,12 +7,15 @@
 #include "vtkAbstractMapper3D.h"
 #include "vtkCamera.h"
 #include "vtkCommand.h"
+#include "vtkDataObject.h"
+#include "vtkHardwareSelector.h"
 #include "vtkMatrix4x4.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkProp3D.h"
 #include "vtkRenderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 
@@ -118,6 +121,12 @@ void SightlineWindowFrame::Render(
     mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
     return;
   }
+  if (vtkHardwareSelector* selector = renderer->GetSelector())
+  {
+    this->RenderSelection(mapper, tracer, renderer, prop, selector, window, width, height);
+    mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
+    return;
+  }
 
   // Trace fewer rays while the user drags; the still frame afterwards has every pixel.
   const int step = window->GetDesiredUpdateRate() > this->InteractiveUpdateRate
@@ -168,12 +177,128 @@ void SightlineWindowFrame::Render(
     changed = true;
   }
 
+  changed = changed || this->TexturesHoldSelection;
+  this->TexturesHoldSelection = false;
   if (!this->Compositor.Draw(window, traceWidth, traceHeight, this->Rgba.data(),
         this->Frame.Depth.data(), changed, BlendingFor(pass)))
   {
     vtkErrorWithObjectMacro(mapper, << "Could not compile the compositing shader.");
   }
   mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
+}
+
+//------------------------------------------------------------------------------
+void SightlineWindowFrame::RenderSelection(vtkAbstractMapper3D* mapper, SightlineTracer& tracer,
+  vtkRenderer* renderer, vtkProp3D* prop, vtkHardwareSelector* selector,
+  vtkOpenGLRenderWindow* window, int width, int height)
+{
+  const SightlineTracer::SelectionIds* ids = tracer.GetSelectionIds();
+  if (!ids)
+  {
+    return; // not selectable (volumes): nothing drawn in selection passes
+  }
+
+  // Every pixel at full size, whatever the interaction; traced once for all the passes of a
+  // selection (and for later selections while the view and scene hold).
+  std::vector<double> key = ViewKey(renderer, prop->GetMatrix(), width, height);
+  key.push_back(static_cast<double>(
+    std::max({ tracer.GetSceneTime(), mapper->GetMTime(), prop->GetMTime() })));
+  if (key != this->SelectionKey)
+  {
+    this->SelectionKey.clear();
+    if (!tracer.RayTraceSelection(prop, renderer->GetActiveCamera(), renderer->GetLights(), width,
+          height, this->SelectionFrame) ||
+      this->SelectionFrame.Primitives.size() != this->SelectionFrame.pixelCount())
+    {
+      return;
+    }
+    this->SelectionKey = std::move(key);
+  }
+
+  selector->BeginRenderProp();
+  const int pass = selector->GetCurrentPass();
+  if (pass == vtkHardwareSelector::COMPOSITE_INDEX_PASS)
+  {
+    selector->RenderCompositeIndex(1); // one block, as vtkOpenGLPolyDataMapper says
+  }
+  // The selector renders the high 24 bits of ids only when someone reported ids that need them.
+  selector->UpdateMaximumPointId(ids->MaximumPointId);
+  selector->UpdateMaximumCellId(ids->MaximumCellId);
+
+  // What each hit pixel shows in this pass: the selector's colour (actor, composite index and
+  // process passes) or the id itself as 24-bit RGB, low byte in red (VTK 9.1's
+  // vtkHardwareSelector decodes attribute ids without an offset: "nothing there" is the actor
+  // pass's black). A primitive without an id for the selector's field association (a sphere in
+  // no vertex cell, in a cell selection) is drawn black in the actor pass, with its depth: it
+  // hides what is behind it but selects nothing. A prop pick (ActorPassOnly, as vtkPropPicker's)
+  // asks for no ids: every primitive counts.
+  const bool propsOnly = selector->GetActorPassOnly();
+  const std::vector<vtkIdType>& selectable =
+    selector->GetFieldAssociation() == vtkDataObject::FIELD_ASSOCIATION_POINTS ? ids->PointIds
+                                                                               : ids->CellIds;
+  const std::vector<vtkIdType>* attribute = nullptr;
+  bool high = false;
+  switch (pass)
+  {
+    case vtkHardwareSelector::POINT_ID_LOW24:
+    case vtkHardwareSelector::POINT_ID_HIGH24:
+      attribute = &ids->PointIds;
+      high = pass == vtkHardwareSelector::POINT_ID_HIGH24;
+      break;
+    case vtkHardwareSelector::CELL_ID_LOW24:
+    case vtkHardwareSelector::CELL_ID_HIGH24:
+      attribute = &ids->CellIds;
+      high = pass == vtkHardwareSelector::CELL_ID_HIGH24;
+      break;
+    default:
+      break;
+  }
+  std::uint8_t propColor[3];
+  const float* value = selector->GetPropColorValue();
+  for (int c = 0; c < 3; ++c)
+  {
+    propColor[c] = static_cast<std::uint8_t>(std::lround(std::clamp(value[c], 0.0f, 1.0f) * 255.0f));
+  }
+  const sightline::Framebuffer& frame = this->SelectionFrame;
+  this->SelectionRgba.assign(4 * frame.pixelCount(), 0);
+  for (std::size_t i = 0; i < frame.pixelCount(); ++i)
+  {
+    const sightline::PixelPrimitive& hit = frame.Primitives[i];
+    if (!hit.hit())
+    {
+      continue; // depth 1 there: the compositor discards the pixel
+    }
+    std::uint8_t* rgba = &this->SelectionRgba[4 * i];
+    rgba[3] = 255;
+    const bool hasId =
+      propsOnly || (hit.primitive < selectable.size() && selectable[hit.primitive] >= 0);
+    if (!attribute)
+    {
+      if (pass != vtkHardwareSelector::ACTOR_PASS || hasId)
+      {
+        std::copy(propColor, propColor + 3, rgba);
+      }
+      continue;
+    }
+    const vtkIdType id = hit.primitive < attribute->size() ? (*attribute)[hit.primitive] : -1;
+    std::uint64_t encoded = id >= 0 ? static_cast<std::uint64_t>(id) : 0;
+    if (high)
+    {
+      encoded >>= 24;
+    }
+    rgba[0] = static_cast<std::uint8_t>(encoded & 0xff);
+    rgba[1] = static_cast<std::uint8_t>((encoded >> 8) & 0xff);
+    rgba[2] = static_cast<std::uint8_t>((encoded >> 16) & 0xff);
+  }
+  // Exact values: replaced, not blended (the selector has turned blending and multisampling
+  // off), nearest texels at the viewport's size, depth written and tested.
+  if (!this->Compositor.Draw(window, width, height, this->SelectionRgba.data(),
+        frame.Depth.data(), true, SightlineWindowCompositor::Blending::Replace))
+  {
+    vtkErrorWithObjectMacro(mapper, << "Could not compile the compositing shader.");
+  }
+  this->TexturesHoldSelection = true;
+  selector->EndRenderProp();
 }
 
 //------------------------------------------------------------------------------

@@ -19,6 +19,8 @@
 
 class SightlineTracer;
 class vtkAbstractMapper3D;
+class vtkHardwareSelector;
+class vtkOpenGLRenderWindow;
 class vtkProp3D;
 class vtkRenderer;
 class vtkWindow;
@@ -48,6 +50,14 @@ public:
   void ReleaseGraphicsResources(vtkWindow* window);
 
 private:
+  /// A pass of hardware selection (renderer->GetSelector() set): the prop traced once at full
+  /// size with per-pixel primitives (kept while the view and scene hold), drawn as the value
+  /// the selector's current pass asks for, with depth. Tracers without selection ids draw
+  /// nothing.
+  void RenderSelection(vtkAbstractMapper3D* mapper, SightlineTracer& tracer, vtkRenderer* renderer,
+    vtkProp3D* prop, vtkHardwareSelector* selector, vtkOpenGLRenderWindow* window, int width,
+    int height);
+
   int InteractiveSubsampling = 2;
   double InteractiveUpdateRate = 1.0;
 
@@ -56,6 +66,14 @@ private:
   std::vector<double> Key;
   std::vector<std::uint8_t> Rgba;
   SightlineWindowCompositor Compositor;
+
+  // The selection passes' frame (with primitives) and its key, apart from the shaded frame so
+  // that a selection does not cost the next normal frame a trace; whether the compositor's
+  // textures hold a selection pass's values rather than the shaded frame.
+  sightline::Framebuffer SelectionFrame;
+  std::vector<double> SelectionKey;
+  std::vector<std::uint8_t> SelectionRgba;
+  bool TexturesHoldSelection = false;
 };
 
 /// Defines a mapper's Set/GetInteractiveSubsampling and Set/GetInteractiveUpdateRate (declared

@@ -75,6 +75,18 @@ class vtkSightlineGlyphMapper::vtkGlyphInternals
 public:
   sightline::SHGlyphPreparation Glyphs;       ///< per-point boxes and amplitudes
   std::shared_ptr<sightline::Geometry> Drawn; ///< what the last build drew
+  /// Input point id of each drawn glyph (the kernel's primitive order), for selection.
+  std::vector<vtkIdType> PointIds;
+  /// Point ids of the prepared glyphs `points` that a kernel set with `sourceIndex` kept.
+  void KeepPointIds(
+    const std::vector<std::size_t>& points, const std::vector<std::uint32_t>& sourceIndex)
+  {
+    this->PointIds.resize(sourceIndex.size());
+    for (std::size_t i = 0; i < sourceIndex.size(); ++i)
+    {
+      this->PointIds[i] = static_cast<vtkIdType>(points[sourceIndex[i]]);
+    }
+  }
   /// Glyph colours from the point scalars (COLOR_BY_SCALARS); false when there are none.
   bool MapColors(vtkSightlineGlyphMapper* self, vtkDataSet* input,
     const std::vector<std::size_t>& points, std::vector<std::uint32_t>& colors);
@@ -373,6 +385,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::BuildGeometry()
 {
   vtkGlyphInternals& in = *this->GlyphInternals;
   in.Drawn.reset();
+  in.PointIds.clear();
   this->LastComputedBoxes = 0;
   std::fill(this->DrawnExtent, this->DrawnExtent + 6, 0);
   this->DrawnExtent[1] = this->DrawnExtent[3] = this->DrawnExtent[5] = -1;
@@ -534,6 +547,14 @@ bool vtkSightlineGlyphMapper::vtkGlyphInternals::MapColors(vtkSightlineGlyphMapp
 }
 
 //------------------------------------------------------------------------------
+void vtkSightlineGlyphMapper::ComputeSelectionIds(
+  std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& vtkNotUsed(cellIds))
+{
+  const std::vector<vtkIdType>& kept = this->GlyphInternals->PointIds;
+  std::copy_n(kept.begin(), std::min(kept.size(), pointIds.size()), pointIds.begin());
+}
+
+//------------------------------------------------------------------------------
 std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::MakeSHGlyphSet(
   vtkDataSet* input, const sightline::PreparedSHGlyphs& glyphs, bool volume)
 {
@@ -623,6 +644,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::MakeSHGlyphSet(
   {
     vtkWarningMacro(<< (volume ? "Uncertainty glyphs: " : "") << reason << ".");
   }
+  if (!volume)
+  {
+    in.KeepPointIds(glyphs.points, set->sourceIndex());
+  }
   return set;
 }
 
@@ -659,6 +684,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::MakeEllipsoidSet(
   {
     vtkWarningMacro(<< reason << ".");
   }
+  in.KeepPointIds(ellipsoids.points, set->sourceIndex());
   return set;
 }
 

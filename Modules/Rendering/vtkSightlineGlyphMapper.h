@@ -314,6 +314,13 @@ protected:
   std::shared_ptr<sightline::Geometry> BuildGeometry() final;
 
   /**
+   * Selection: a glyph stands for its point of the input (the voxel, for images); glyphs have
+   * no cell id.
+   */
+  void ComputeSelectionIds(
+    std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds) final;
+
+  /**
    * The subclass's glyphs for `request` (the chosen points, rotation, normalisation, world
    * scale and progress). Report problems by name and return null when nothing is drawn;
    * kernel exceptions are caught and reported by the caller.

@@ -54,6 +54,10 @@ public:
     }
     return *this->Input;
   }
+  // Input ids of the primitives, for hardware selection; computed on the first selection
+  // after a build.
+  SightlineTracer::SelectionIds Selection;
+  vtkTimeStamp SelectionTime;
 
   bool WarnedOpacity = false;
   bool WarnedPositionalLight = false;
@@ -175,6 +179,64 @@ bool vtkSightlineMapper::IsTranslucentFor(vtkActor* actor)
 bool vtkSightlineMapper::RayTrace(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights,
   int width, int height, sightline::Framebuffer& framebuffer, const std::vector<float>* depthLimit)
 {
+  return this->Trace(prop, camera, lights, width, height, framebuffer, depthLimit, false);
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineMapper::RayTraceSelection(vtkProp3D* prop, vtkCamera* camera,
+  vtkLightCollection* lights, int width, int height, sightline::Framebuffer& framebuffer)
+{
+  return this->Trace(prop, camera, lights, width, height, framebuffer, nullptr, true);
+}
+
+//------------------------------------------------------------------------------
+sightline::Geometry* vtkSightlineMapper::GetGeometry()
+{
+  return this->Internals->Geometry.get();
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineMapper::ComputeSelectionIds(
+  std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& vtkNotUsed(cellIds))
+{
+  for (std::size_t i = 0; i < pointIds.size(); ++i)
+  {
+    pointIds[i] = static_cast<vtkIdType>(i);
+  }
+}
+
+//------------------------------------------------------------------------------
+const SightlineTracer::SelectionIds* vtkSightlineMapper::GetSelectionIds()
+{
+  vtkInternals& in = *this->Internals;
+  if (!in.Geometry)
+  {
+    return nullptr;
+  }
+  if (in.SelectionTime.GetMTime() < in.BuildTime.GetMTime())
+  {
+    SelectionIds& ids = in.Selection;
+    const std::size_t n = in.Geometry->size();
+    ids.PointIds.assign(n, -1);
+    ids.CellIds.assign(n, -1);
+    this->ComputeSelectionIds(ids.PointIds, ids.CellIds);
+    ids.PointIds.resize(n, -1); // whatever a subclass did, one per primitive
+    ids.CellIds.resize(n, -1);
+    ids.MaximumPointId = ids.PointIds.empty()
+      ? -1
+      : *std::max_element(ids.PointIds.begin(), ids.PointIds.end());
+    ids.MaximumCellId =
+      ids.CellIds.empty() ? -1 : *std::max_element(ids.CellIds.begin(), ids.CellIds.end());
+    in.SelectionTime.Modified();
+  }
+  return &in.Selection;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights,
+  int width, int height, sightline::Framebuffer& framebuffer, const std::vector<float>* depthLimit,
+  bool selection)
+{
   auto* actor = vtkActor::SafeDownCast(prop);
   if (!actor || !camera)
   {
@@ -191,8 +253,11 @@ bool vtkSightlineMapper::RayTrace(vtkProp3D* prop, vtkCamera* camera, vtkLightCo
   {
     return false;
   }
-  const bool translucent = this->IsTranslucentFor(actor);
-  if (actor->GetProperty()->GetOpacity() < 1.0 && !translucent && !this->Internals->WarnedOpacity)
+  // A selection pass traces a translucent union as opaque solids: the nearest hit is the
+  // union's nearest surface.
+  const bool translucent = !selection && this->IsTranslucentFor(actor);
+  if (actor->GetProperty()->GetOpacity() < 1.0 && !this->IsTranslucentFor(actor) &&
+    !this->Internals->WarnedOpacity)
   {
     vtkWarningMacro(<< "Property opacity " << actor->GetProperty()->GetOpacity() << " is not supported by "
                     << this->GetClassName() << "; the primitives are rendered opaque.");
@@ -222,14 +287,17 @@ bool vtkSightlineMapper::RayTrace(vtkProp3D* prop, vtkCamera* camera, vtkLightCo
     ToKernelMatrix(camera->GetCompositeProjectionTransformMatrix(double(width) / height, -1, 1));
   sightline::RenderOptions options;
   options.objectToWorld = ToKernelMatrix(actor->GetMatrix());
-  options.shadows.mode = this->ShadowMode == SHADOWS_SOFT ? sightline::ShadowMode::Soft
-    : this->ShadowMode == SHADOWS_HARD                    ? sightline::ShadowMode::Hard
-                                                          : sightline::ShadowMode::None;
+  // Selection passes draw ids, not shading: no shadow rays.
+  options.shadows.mode = selection           ? sightline::ShadowMode::None
+    : this->ShadowMode == SHADOWS_SOFT       ? sightline::ShadowMode::Soft
+    : this->ShadowMode == SHADOWS_HARD       ? sightline::ShadowMode::Hard
+                                             : sightline::ShadowMode::None;
   options.shadows.samples = this->ShadowSamples;
   options.shadows.lightAngularRadius =
     static_cast<float>(vtkMath::RadiansFromDegrees(this->LightAngularRadius));
   this->ConfigureRender(options);
   options.depthLimit = depthLimit;
+  options.primitiveIds = selection;
   const sightline::EmbreeScene* opaqueScene = in.Scene.get();
   if (translucent)
   {

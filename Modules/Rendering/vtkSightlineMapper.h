@@ -52,6 +52,18 @@
  * (they have no texture coordinates) and is ignored, so colours are the same with it on, as
  * ParaView sets it.
  *
+ * Selection: the mapper takes part in VTK's hardware selection (vtkHardwareSelector,
+ * vtkRenderedAreaPicker-style area selection, ParaView's selection, vtkPropPicker's hardware
+ * path). With renderer->GetSelector() set, the primitives are traced once more at the full
+ * viewport size with the primitive of every pixel recorded (sightline::RenderOptions::
+ * primitiveIds; normal frames record nothing), and each selection pass draws, instead of shaded
+ * colour, the value the pass asks for: the selector's prop colour (actor, composite index and
+ * process passes) or the picked primitive's input point or cell id as 24-bit RGB (low and
+ * high passes), with the primitive's window depth, so ordinary actors in front still win.
+ * Translucent actors are selected at their nearest surface. Which input ids a primitive stands
+ * for is the subclass's (ComputeSelectionIds(); by default primitive i is point i and has no
+ * cell).
+ *
  * Limitations: positional and spot lights are treated as directional lights along their axis;
  * translucent surfaces cast no shadows.
  *
@@ -118,6 +130,11 @@ public:
    */
   bool HasOpaqueGeometry() override { return true; }
   bool HasTranslucentPolygonalGeometry() override { return false; }
+
+  /**
+   * The primitives can be picked with vtkHardwareSelector (see the class documentation).
+   */
+  bool GetSupportsSelection() override { return true; }
 
   /**
    * Whether this actor is drawn translucent: its property's opacity is below 1 and this
@@ -226,6 +243,21 @@ protected:
   virtual void ConfigureRender(sightline::RenderOptions& vtkNotUsed(options)) {}
 
   /**
+   * Hardware selection: the input point id and cell id (-1 for none) of every primitive of the
+   * geometry BuildGeometry() returned (GetGeometry()), in the kernel's primitive order. Called
+   * once after each geometry build, on the first selection that needs it; `pointIds` and
+   * `cellIds` arrive sized to the primitive count and filled with -1. The default makes
+   * primitive i point i.
+   */
+  virtual void ComputeSelectionIds(
+    std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds);
+
+  /**
+   * The geometry of the last build (null when nothing is drawn), for ComputeSelectionIds().
+   */
+  sightline::Geometry* GetGeometry();
+
+  /**
    * The one place where every Sightline mapper checks a point array against the points it
    * describes: false (after an error naming `label`, its tuple count and the point count,
    * ending with `consequence`) when the array is missing, has not exactly one tuple per point,
@@ -279,6 +311,13 @@ private:
   // Brings the geometry and BVH up to date with the input; false when there is nothing to draw.
   bool UpdateScene() override;
   vtkMTimeType GetSceneTime() override;
+  const SelectionIds* GetSelectionIds() override;
+  bool RayTraceSelection(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights,
+    int width, int height, sightline::Framebuffer& framebuffer) override;
+  // RayTrace and RayTraceSelection.
+  bool Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights, int width,
+    int height, sightline::Framebuffer& framebuffer, const std::vector<float>* depthLimit,
+    bool selection);
 #endif
 
   class vtkInternals;

@@ -3,7 +3,13 @@
 
 #include "SightlineKernelConversions.h"
 
+#include "vtkCellArray.h"
+#include "vtkCellType.h"
 #include "vtkDataArray.h"
+#include "vtkIdList.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
+#include "vtkInformation.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -97,6 +103,74 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSphereMapper::BuildGeometry()
     origin, centers, radii, static_cast<float>(this->Radius), colors);
   SightlineKernelConversions::WarnAboutReport(this, spheres->report());
   return spheres;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineSphereMapper::ComputeSelectionIds(
+  std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds)
+{
+  auto* spheres = dynamic_cast<sightline::SphereSet*>(this->GetGeometry());
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
+  if (!spheres || !input)
+  {
+    return;
+  }
+  const std::vector<std::uint32_t>& source = spheres->sourceIndex();
+  for (std::size_t i = 0; i < pointIds.size() && i < source.size(); ++i)
+  {
+    pointIds[i] = static_cast<vtkIdType>(source[i]);
+  }
+
+  // The first vertex cell holding each point. vtkPolyData numbers its vertex cells first, so
+  // its verts array is enough; other point sets are scanned cell by cell.
+  const vtkIdType count = input->GetNumberOfPoints();
+  std::vector<vtkIdType> vertexCell(static_cast<std::size_t>(count), -1);
+  bool any = false;
+  auto mark = [&](vtkIdType cell, vtkIdType n, const vtkIdType* ids)
+  {
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      if (ids[k] >= 0 && ids[k] < count && vertexCell[ids[k]] < 0)
+      {
+        vertexCell[ids[k]] = cell;
+        any = true;
+      }
+    }
+  };
+  if (auto* poly = vtkPolyData::SafeDownCast(input))
+  {
+    vtkCellArray* verts = poly->GetVerts();
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; verts && c < verts->GetNumberOfCells(); ++c)
+    {
+      verts->GetCellAtId(c, ids);
+      mark(c, ids->GetNumberOfIds(), ids->GetPointer(0));
+    }
+  }
+  else
+  {
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < input->GetNumberOfCells(); ++c)
+    {
+      const int type = input->GetCellType(c);
+      if (type == VTK_VERTEX || type == VTK_POLY_VERTEX)
+      {
+        input->GetCellPoints(c, ids);
+        mark(c, ids->GetNumberOfIds(), ids->GetPointer(0));
+      }
+    }
+  }
+  if (!any)
+  {
+    return;
+  }
+  for (std::size_t i = 0; i < cellIds.size(); ++i)
+  {
+    if (pointIds[i] >= 0 && pointIds[i] < count)
+    {
+      cellIds[i] = vertexCell[pointIds[i]];
+    }
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -13,6 +13,9 @@
  * positive and finite are skipped with a warning naming the first offending point; a missing,
  * multi-component or wrongly sized radius array is an error and the constant Radius is used.
  *
+ * Selection (vtkHardwareSelector): a sphere is picked as its input point (POINTS) and as the
+ * vertex or poly-vertex cell holding that point, if any (CELLS); see vtkSightlineMapper.
+ *
  * @sa vtkSightlineMapper vtkSightlineImageRenderer
  */
 #ifndef vtkSightlineSphereMapper_h
@@ -61,6 +64,12 @@ protected:
   bool AppendsCompositeLeaves() override { return true; }
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
+  /**
+   * Selection: sphere i is input point i (skipped points have no sphere); its cell is the
+   * vertex or poly-vertex cell holding the point (the first one), or none.
+   */
+  void ComputeSelectionIds(
+    std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds) override;
 #endif
 
   double Radius = 1.0;

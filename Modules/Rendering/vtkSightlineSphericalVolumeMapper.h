@@ -49,6 +49,10 @@
  * passes): its one non-empty vtkRectilinearGrid leaf is drawn; with several, the first, with a
  * warning naming their count; leaves of another type are left out with an error.
  *
+ * Selection: the volume cannot be picked. In vtkHardwareSelector's passes it draws nothing
+ * (neither ids nor depth), so it neither is selected nor hides what is behind it, as VTK's
+ * own volume mappers.
+ *
  * @sa vtkSightlineSphericalFieldSource vtkSightlineMapper vtkFixedPointVolumeRayCastMapper
  */
 #ifndef vtkSightlineSphericalVolumeMapper_h

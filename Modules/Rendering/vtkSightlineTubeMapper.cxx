@@ -207,6 +207,64 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   }
 }
 
+//------------------------------------------------------------------------------
+void vtkSightlineTubeMapper::ComputeSelectionIds(
+  std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds)
+{
+  auto* tubes = dynamic_cast<sightline::TubeSet*>(this->GetGeometry());
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
+  if (!tubes || !input)
+  {
+    return;
+  }
+  // The input point and cell of each control point BuildGeometry gave the tube set: the input's
+  // points in order with a predecessor array, else each kept polyline's points in turn (the
+  // same polylines BuildGeometry keeps: those naming only points the input has).
+  const vtkIdType count = input->GetNumberOfPoints();
+  std::vector<vtkIdType> controlPoint, controlCell;
+  if (this->PredecessorArrayName && *this->PredecessorArrayName)
+  {
+    controlPoint.resize(static_cast<std::size_t>(count));
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      controlPoint[i] = i;
+    }
+    controlCell.assign(controlPoint.size(), -1);
+  }
+  else if (vtkPolyData* poly = vtkPolyData::SafeDownCast(input))
+  {
+    vtkCellArray* lines = poly->GetLines();
+    // vtkPolyData numbers its cells verts first, then lines.
+    const vtkIdType firstLine = poly->GetNumberOfVerts();
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; lines && c < lines->GetNumberOfCells(); ++c)
+    {
+      lines->GetCellAtId(c, ids);
+      const vtkIdType* first = ids->GetPointer(0);
+      const vtkIdType* last = first + ids->GetNumberOfIds();
+      if (std::any_of(first, last, [count](vtkIdType id) { return id < 0 || id >= count; }))
+      {
+        continue;
+      }
+      controlPoint.insert(controlPoint.end(), first, last);
+      controlCell.insert(controlCell.end(), ids->GetNumberOfIds(), firstLine + c);
+    }
+  }
+  for (std::size_t p = 0; p < pointIds.size(); ++p)
+  {
+    const std::uint32_t node = tubes->nodeOfPrimitive(static_cast<unsigned>(p));
+    const std::int32_t predecessor = tubes->predecessorOf(node);
+    const std::size_t own = tubes->sourceIndexOf(node);
+    const std::size_t start =
+      predecessor >= 0 ? tubes->sourceIndexOf(static_cast<std::uint32_t>(predecessor)) : own;
+    if (own < controlPoint.size() && start < controlPoint.size())
+    {
+      pointIds[p] = controlPoint[start];
+      cellIds[p] = controlCell[own];
+    }
+  }
+}
+
 const char* vtkSightlineTubeMapper::GetLinkLayoutAsString()
 {
   switch (this->LinkLayout)

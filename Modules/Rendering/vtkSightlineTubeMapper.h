@@ -28,6 +28,12 @@
  * a tube sees its wall from inside. Opaque actors take the cheaper first-hit path. See
  * vtkSightlineMapper for how translucent actors composite with the rest of the scene.
  *
+ * Selection (vtkHardwareSelector, see vtkSightlineMapper): a pixel of a link (the cone stump
+ * from a point's predecessor to it, with the point's sphere) selects the polyline cell holding
+ * the link (CELLS; none when links come from PredecessorArrayName) and the link's start point,
+ * the predecessor (POINTS; the point itself for a tube's first sphere). Translucent tubes are
+ * selected at their nearest surface.
+ *
  * LinkLayout picks one of the paper's four implementation choices (Table 1); they draw the
  * same image and differ in memory and speed (see Benchmarks/README.md). The default,
  * combined links with stumps computed on the fly, uses the least memory (20 bytes per link
@@ -131,6 +137,13 @@ protected:
   bool AppendsCompositeLeaves() override { return true; }
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
+  /**
+   * Selection: a link (its cone stump and end sphere) is picked as the point it starts from
+   * (its predecessor; a tube's first sphere as its own point) and as the polyline cell it
+   * belongs to (none with PredecessorArrayName).
+   */
+  void ComputeSelectionIds(
+    std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds) override;
 #endif
   bool SupportsTranslucency() override { return true; }
 

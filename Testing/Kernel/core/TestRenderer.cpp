@@ -294,6 +294,16 @@ TEST_P(OverlappingSpheresTest, NearerSphereWinsEachPixel)
   scene->commit();
   const Framebuffer framebuffer =
     render(*scene, view.camera(), Lighting::headlight(view.viewDirection()));
+  // The same frame with the primitive of each pixel recorded (for picking): identical colours,
+  // and the plain frame records none.
+  sightline::RenderOptions withIds;
+  withIds.primitiveIds = true;
+  const Framebuffer identified =
+    render(*scene, view.camera(), Lighting::headlight(view.viewDirection()), withIds);
+  EXPECT_TRUE(framebuffer.Primitives.empty());
+  ASSERT_EQ(identified.Primitives.size(), identified.pixelCount());
+  EXPECT_EQ(identified.Color, framebuffer.Color);
+  EXPECT_EQ(identified.Depth, framebuffer.Depth);
 
   const Matrix4 worldToClip = view.reference();
   int winners[2] = { 0, 0 };
@@ -314,9 +324,17 @@ TEST_P(OverlappingSpheresTest, NearerSphereWinsEachPixel)
       if (!t[0] && !t[1])
       {
         EXPECT_FALSE(isHit(framebuffer, i)) << "pixel (" << x << ", " << y << ")";
+        EXPECT_FALSE(identified.Primitives[i].hit()) << "pixel (" << x << ", " << y << ")";
         continue;
       }
       const int nearer = !t[1] ? 0 : !t[0] ? 1 : (*t[0] < *t[1] ? 0 : 1);
+      const sightline::PixelPrimitive expectedPrimitive = separateGeometries
+        ? sightline::PixelPrimitive{ std::uint32_t(nearer), 0u }
+        : sightline::PixelPrimitive{ 0u, std::uint32_t(nearer) };
+      EXPECT_EQ(identified.Primitives[i].geometry, expectedPrimitive.geometry)
+        << "pixel (" << x << ", " << y << ")";
+      EXPECT_EQ(identified.Primitives[i].primitive, expectedPrimitive.primitive)
+        << "pixel (" << x << ", " << y << ")";
       ++winners[nearer];
       const vec4 expected = nearer == 0 ? vec4(1, 0, 0, 1) : vec4(0, 1, 0, 1);
       EXPECT_EQ(framebuffer.Color[i], expected) << "pixel (" << x << ", " << y << ")";

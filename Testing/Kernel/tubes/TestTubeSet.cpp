@@ -268,6 +268,24 @@ TEST(TubeSet, BadInput)
   const TubeSet partial(points, { 0.6f, -0.5f, std::nanf(""), 0.3f }, predecessors);
   EXPECT_EQ(partial.size(), 2u);
   EXPECT_EQ(partial.report().rejected, 2u);
+  // Picking maps kept control points back to the points given: 0 and 3 are kept, and 3 lost
+  // its predecessor (point 1) with it.
+  EXPECT_EQ(partial.sourceIndexOf(0), 0u);
+  EXPECT_EQ(partial.sourceIndexOf(1), 3u);
+  EXPECT_EQ(partial.nodeOfPrimitive(1), 1u);
+  EXPECT_EQ(partial.predecessorOf(1), -1);
+  // Separate spheres and stumps: stump primitives follow the spheres and name their end point.
+  const TubeSet separate(points, radii, predecessors, {},
+    { TubeLayout::Primitives::Separate, TubeLayout::Transforms::OnTheFly });
+  ASSERT_EQ(separate.size(), 7u);
+  for (unsigned p = 0; p < 4; ++p)
+  {
+    EXPECT_EQ(separate.nodeOfPrimitive(p), p);
+    EXPECT_EQ(separate.sourceIndexOf(p), p);
+    EXPECT_EQ(separate.predecessorOf(p), predecessors[p]);
+  }
+  for (unsigned p = 4; p < 7; ++p)
+    EXPECT_EQ(separate.nodeOfPrimitive(p), p - 3);
   // Duplicate points (a zero-length link) draw the sphere only.
   const TubeSet duplicate({ vec3(0), vec3(0) }, { 0.5f, 0.5f }, { -1, 0 });
   Ray down;

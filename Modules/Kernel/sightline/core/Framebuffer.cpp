@@ -37,6 +37,7 @@ void Framebuffer::resize(int width, int height)
   Color.resize(n);
   Depth.resize(n);
   Distance.resize(n);
+  Primitives.clear();
   clear();
 }
 
@@ -45,6 +46,7 @@ void Framebuffer::clear()
   std::fill(Color.begin(), Color.end(), vec4(0.0f));
   std::fill(Depth.begin(), Depth.end(), 1.0f);
   std::fill(Distance.begin(), Distance.end(), kInfinity);
+  std::fill(Primitives.begin(), Primitives.end(), PixelPrimitive{});
 }
 
 namespace
@@ -74,6 +76,9 @@ void Framebuffer::compositeNearest(const Framebuffer& other)
 {
   if (other.Width != Width || other.Height != Height)
     throw std::invalid_argument("sightline::Framebuffer::compositeNearest: sizes differ");
+  const bool primitives = !Primitives.empty() && other.Primitives.size() == Primitives.size();
+  if (!primitives)
+    Primitives.clear();
   for (std::size_t i = 0; i < Color.size(); ++i)
   {
     if (other.Depth[i] < Depth[i])
@@ -81,6 +86,8 @@ void Framebuffer::compositeNearest(const Framebuffer& other)
       Color[i] = other.Color[i];
       Depth[i] = other.Depth[i];
       Distance[i] = other.Distance[i];
+      if (primitives)
+        Primitives[i] = other.Primitives[i];
     }
   }
 }

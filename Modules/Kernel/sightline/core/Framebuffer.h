@@ -9,13 +9,24 @@
 
 namespace sightline
 {
+/// The primitive a pixel's primary ray hit: its geometry's index in the scene and its index in
+/// that geometry (Embree's geomID and primID). kNone in both where nothing opaque was hit.
+struct PixelPrimitive
+{
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  std::uint32_t geometry = kNone;
+  std::uint32_t primitive = kNone;
+  bool hit() const { return primitive != kNone; }
+};
+
 class Framebuffer
 {
 public:
   Framebuffer() = default;
   Framebuffer(int width, int height) { resize(width, height); }
 
-  /// Resizes and clears to "nothing hit": colour (0,0,0,0), window depth 1, distance infinity.
+  /// Resizes and clears to "nothing hit": colour (0,0,0,0), window depth 1, distance infinity;
+  /// empties Primitives (only a render that asks for them fills them).
   /// Throws std::invalid_argument for a negative size and std::length_error, naming the size
   /// and the budget, for an image beyond the memory budget of 8 GiB (24 bytes a pixel: about
   /// 358 million pixels); the framebuffer is unchanged then.
@@ -33,13 +44,18 @@ public:
   std::vector<float> Depth;
   /// World-space distance along the primary ray from the near plane (infinity on a miss).
   std::vector<float> Distance;
+  /// Per pixel, the opaque primitive the primary ray hit (for picking). Empty unless the
+  /// render asked for it (RenderOptions::primitiveIds): other frames neither allocate nor
+  /// write it. Translucent layers and volumes record nothing here.
+  std::vector<PixelPrimitive> Primitives;
 
   /// 8-bit RGBA composited over a background colour, bottom row first. Colours are clamped to
   /// [0, 1] and rounded; no gamma is applied, as VTK's OpenGL rendering applies none.
   std::vector<std::uint8_t> toRGBA8(const vec3& background) const;
 
   /// Keeps, per pixel, whichever of this and other is nearer (smaller window depth), the way the
-  /// depth test composites several mappers in one window.
+  /// depth test composites several mappers in one window. Primitives are kept with their
+  /// pixels when both framebuffers have them, and dropped otherwise.
   void compositeNearest(const Framebuffer& other);
 
   /// Puts this image behind a translucent layer `front` (alpha blending, "over"): colours and

@@ -297,6 +297,8 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
     depthT = std::min(depthT, compositeTranslucent(frame, segment, color, scratch));
   if (!(depthT < kInfinity))
     return false;
+  if (hit && frame.options.primitiveIds)
+    fb.Primitives[i] = PixelPrimitive{ sceneHit.geomID, sceneHit.primID };
 
   const dvec3 depthPoint = ray.at(depthT);
   fb.Color[i] = color;
@@ -312,6 +314,8 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
 {
   const auto start = std::chrono::steady_clock::now();
   framebuffer.resize(camera.width(), camera.height());
+  if (options.primitiveIds)
+    framebuffer.Primitives.assign(framebuffer.pixelCount(), PixelPrimitive{});
   RenderStatistics stats;
   const EmbreeScene* translucent = options.translucent.scene;
   if (scene.empty() && !(translucent && !translucent->empty()))

@@ -61,6 +61,9 @@ struct RenderOptions
   /// Window depth of opaque geometry drawn by someone else (e.g. read back from OpenGL), one
   /// per pixel of the camera, bottom row first; rays stop there. Null for none.
   const std::vector<float>* depthLimit = nullptr;
+  /// Also record, per pixel, the opaque primitive the primary ray hit (Framebuffer::Primitives),
+  /// for picking. Off by default: a frame without it allocates and writes nothing more.
+  bool primitiveIds = false;
   /// Tiles are the unit of parallel work; 16x16 pixels keep rays coherent.
   int tileSize = 16;
   /// Transform from the scene's coordinates to world coordinates (a VTK actor's matrix).

@@ -133,6 +133,10 @@ TubeSet::TubeSet(const std::vector<vec3>& points, const std::vector<float>& radi
   }
   // Vectors grown by push_back hold up to twice their size: give the slack back, since
   // bytes per link is what large assemblies are limited by.
+  // Only a set that dropped points needs its constructor indices (picking maps through them).
+  if (dropped > 0)
+    SourceIndex = std::move(sourceIndex);
+  SourceIndex.shrink_to_fit();
   Nodes.shrink_to_fit();
   StumpEnds.shrink_to_fit();
   Stumps.shrink_to_fit();
@@ -291,6 +295,6 @@ std::size_t TubeSet::memoryBytes() const
 {
   return Nodes.capacity() * sizeof(vec4) + Predecessors.capacity() * sizeof(std::int32_t) +
     StumpEnds.capacity() * sizeof(std::uint32_t) + Stumps.capacity() * sizeof(StoredStump) +
-    Colors.capacity() * sizeof(std::uint32_t);
+    Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t);
 }
 } // namespace sightline

@@ -80,6 +80,15 @@ public:
   std::size_t pointCount() const { return Nodes.size(); }
   std::size_t linkCount() const { return Links; }
   const ValidationReport& report() const { return Report; }
+  /// For picking: the kept control point whose link (from its predecessor) and end sphere a
+  /// primitive draws, that point's predecessor (a kept index, or -1 where a tube starts), and
+  /// its index among the points given to the constructor.
+  std::uint32_t nodeOfPrimitive(unsigned primitive) const { return nodeOf(primitive); }
+  std::int32_t predecessorOf(std::uint32_t node) const { return Predecessors[node]; }
+  std::uint32_t sourceIndexOf(std::uint32_t node) const
+  {
+    return SourceIndex.empty() ? node : SourceIndex[node];
+  }
   /// What control points (and precomputed stumps) are relative to.
   const dvec3& origin() const { return Origin; }
 
@@ -97,6 +106,7 @@ private:
   dvec3 Origin{ 0.0 };
   std::vector<vec4> Nodes;                 ///< kept control points: position (from Origin), radius
   std::vector<std::int32_t> Predecessors;  ///< kept index of each node's predecessor, or -1
+  std::vector<std::uint32_t> SourceIndex;  ///< constructor index of each node; empty: the same
   std::vector<std::uint32_t> StumpEnds;    ///< separate layout: end node of each stump primitive
   std::vector<StoredStump> Stumps;         ///< precomputed: one per node (combined) or stump
   std::size_t Links = 0;

@@ -15,11 +15,12 @@ import unittest
 import zipfile
 
 import numpy as np
-from paraview.simple import (Calculator, ColorBy, CreateView, Delete, GetColorTransferFunction,
+from paraview.simple import (Calculator, ClearSelection, ColorBy, CreateView, Delete, GetColorTransferFunction,
                              GetOpacityTransferFunction, GroupDatasets, LoadPlugin, OpenDataFile,
-                             PVTrivialProducer, Render, SetActiveView, Show, Threshold, Transform)
+                             PVTrivialProducer, Render, SelectSurfaceCells, SelectSurfacePoints,
+                             SetActiveSource, SetActiveView, Show, Threshold, Transform)
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonCore import vtkIdList, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkRenderer, vtkRenderWindow, vtkVolume, vtkWindowToImageFilter
 from vtkmodules.vtkRenderingCore import vtkVolumeProperty
@@ -87,7 +88,7 @@ def reference_image(view, prop):
     image = grab.GetOutput()
     w, h, _ = image.GetDimensions()
     pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].copy()
-    window.Finalize()
+    del window  # (Finalize here made Mesa report GLXBadContext at exit)
     return pixels
 
 
@@ -113,6 +114,29 @@ def differing_fraction(a, b, tolerance=24):
 def covered_fraction(pixels, background):
     back = np.round(np.array(background) * 255).astype(int)
     return float(np.mean(np.abs(pixels.astype(int) - back).max(axis=2) > 8))
+
+
+def display_point(view, point):
+    renderer = view.GetRenderer()
+    renderer.SetWorldPoint(point[0], point[1], point[2], 1.0)
+    renderer.WorldToDisplay()
+    x, y, _ = renderer.GetDisplayPoint()
+    return int(round(x)), int(round(y))
+
+
+def click(view, source, pixel, cells=False):
+    """ParaView's one-pixel surface selection at `pixel`: the selected ids (process, id pairs
+    flattened), or [] when nothing was hit."""
+    SetActiveSource(source)
+    rectangle = [pixel[0], pixel[1], pixel[0], pixel[1]]
+    (SelectSurfaceCells if cells else SelectSurfacePoints)(Rectangle=rectangle, View=view)
+    selection = source.GetSelectionInput(source.Port)
+    ids = []
+    if selection is not None:
+        for part in selection.Input:
+            ids += list(part.IDs)[1::2]
+    ClearSelection(source)
+    return ids
 
 
 class ParaViewPluginTest(unittest.TestCase):
@@ -344,6 +368,62 @@ class ParaViewPluginTest(unittest.TestCase):
         self.assertNotIn("ERROR", messages.GetOutput())
         self.assertNotIn("Warning", messages.GetOutput())
         Delete(empty_view)
+        Delete(view)
+
+    def test_selection_names_the_clicked_primitive(self):
+        # Clicking a sphere's centre selects its point; clicking the middle of a tube link
+        # selects its polyline; clicking an SH glyph's centre selects its voxel.
+        reader = OpenDataFile(os.path.join(SWC_DIR, "neuron_three_point_soma.swc"))
+        view = make_view()
+        rep = Show(reader, view)
+        rep.Representation = "Sightline Spheres"
+        rep.SphereRadiusArray = ["POINTS", "Radius"]
+        view.ResetCamera()
+        Render(view)
+        neuron = reader.GetClientSideObject().GetOutputDataObject(0)
+        for i in range(neuron.GetNumberOfPoints()):
+            self.assertEqual(click(view, reader, display_point(view, neuron.GetPoint(i))), [i],
+                             f"sphere {i}")
+        self.assertEqual(click(view, reader, (2, 2)), [], "the background selects nothing")
+
+        rep.Representation = "Sightline Tubes"
+        rep.TubeRadiusArray = ["POINTS", "Radius"]
+        Render(view)
+        lines = neuron.GetLines()
+        self.assertGreater(lines.GetNumberOfCells(), 1)
+        first_cell = neuron.GetNumberOfVerts()  # cell ids count vertex cells first
+        for c in range(lines.GetNumberOfCells()):
+            # The polyline's last link: its first links may lie inside the soma.
+            ids = vtkIdList()
+            lines.GetCellAtId(c, ids)
+            n = ids.GetNumberOfIds()
+            a, b = neuron.GetPoint(ids.GetId(n - 2)), neuron.GetPoint(ids.GetId(n - 1))
+            middle = [(a[k] + b[k]) / 2 for k in range(3)]
+            self.assertEqual(click(view, reader, display_point(view, middle), cells=True),
+                             [first_cell + c], f"last link of polyline {c}")
+        Delete(view)
+
+        sh = OpenDataFile(os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"))
+        view = make_view()
+        glyphs = Show(sh, view)
+        glyphs.Representation = "Sightline SH Glyphs"
+        glyphs.SHBasis = "tournier07 (MRtrix3)"
+        glyphs.SHLegacyBasis = 0
+        glyphs.GlyphSlice = 5
+        view.CameraPosition = [9, 9, 60]
+        view.CameraFocalPoint = [9, 9, 10]
+        view.CameraViewUp = [0, 1, 0]
+        view.ResetCamera()
+        Render(view)
+        image = sh.GetClientSideObject().GetOutputDataObject(0)
+        right = 0
+        voxels = [(i, j) for i in range(2, 9, 2) for j in range(2, 9, 2)]
+        for i, j in voxels:
+            point = image.ComputePointId([i, j, 5])
+            picked = click(view, sh, display_point(view, image.GetPoint(point)))
+            self.assertIn(picked, ([], [point]), f"voxel {i}, {j}")  # never another voxel
+            right += picked == [point]
+        self.assertGreaterEqual(right, len(voxels) * 3 // 4)
         Delete(view)
 
     def test_prem_as_a_spherical_volume(self):

@@ -42,7 +42,7 @@ for _ in $(seq 50); do [ -s "$work/display" ] && break; sleep 0.1; done
 export DISPLAY=":$(cat "$work/display")"
 
 PYTHONPATH="$prefix/lib/python3/dist-packages:$build/lib/python3.11/site-packages" \
-LD_LIBRARY_PATH="$build/lib" PV_PLUGIN_PATH="$plugin_dir" XDG_RUNTIME_DIR="$work" \
+LD_LIBRARY_PATH="$build/lib" PV_PLUGIN_PATH="$plugin_dir" XDG_RUNTIME_DIR="$work" XDG_CONFIG_HOME="$work" \
 SIGHTLINE_GUI_MIF="$sh_data/small_64D_sh_tournier07.mif" SIGHTLINE_GUI_READY="$work/ready" \
   paraview --dr --script="$root/scripts/paraview_gui_scene.py" >"$work/paraview.log" 2>&1 &
 paraview_pid=$!

@@ -35,7 +35,8 @@ def main():
         env = dict(os.environ,
                    SIGHTLINE_GUI_RESULT=result_path,
                    SIGHTLINE_GUI_TRK=os.path.join(folder, "sub_1", "CST_R.trk"),
-                   XDG_RUNTIME_DIR=folder)
+                   XDG_RUNTIME_DIR=folder,
+                   XDG_CONFIG_HOME=folder)  # even with --dr the GUI writes a settings file
         # --dr: no user settings; --exit: quit (closing all windows) once the script has run.
         command = [paraview, "--dr", f"--script={SCRIPT}", "--exit"]
         print(" ".join(command), flush=True)

@@ -15,6 +15,7 @@ packages=(
   mrtrix3                             # sh2amp: an independent reference for the MRtrix3 SH basis
   clang-14 libclang-rt-14-dev         # sanitizer build and libFuzzer targets (scripts/test.sh)
   paraview paraview-dev               # ParaView 5.11 and its VTK 9.2: the plugin's configuration
+  libqt5svg5 xdotool python3-pil     # the GUI's SVG icons, and scripts/paraview-gui-picture.sh
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -23,8 +23,9 @@ if [ ! -f "$stamp" ]; then
   version="$(dpkg-query -W -f='${Version}' paraview)"
   rm -rf "$prefix"
   mkdir -p "$prefix/.download"
-  # apt-get download writes into the current folder; as root it warns that _apt cannot.
-  (cd "$prefix/.download" && apt-get download -q "python3-paraview=$version" 2>&1 | grep -v "unsandboxed" || true)
+  # apt-get download writes into the current folder; as root it warns that _apt cannot. Its
+  # progress goes to stderr: stdout is the ParaView_DIR that build.sh captures.
+  (cd "$prefix/.download" && apt-get download -q "python3-paraview=$version" 2>&1 | grep -v "unsandboxed" >&2 || true)
   deb="$(ls "$prefix"/.download/python3-paraview_*.deb 2>/dev/null | head -n1)"
   [ -n "$deb" ] || { echo "paraview-prefix: could not download python3-paraview=$version" >&2; exit 1; }
   dpkg -x "$deb" "$prefix"

@@ -2,6 +2,8 @@
 #include "vtkSightlineRepresentation.h"
 
 #include "vtkActor.h"
+#include "vtkAlgorithm.h"
+#include "vtkAlgorithmOutput.h"
 #include "vtkBoundingBox.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
@@ -125,12 +127,19 @@ int vtkSightlineRepresentation::ProcessViewRequest(
   }
   else if (request == vtkPVView::REQUEST_RENDER())
   {
+    // A client of a pvserver that renders remotely gets no data, only a placeholder
+    // vtkDataObject: nothing to draw there, and no input for the mapper to refuse.
     vtkAlgorithmOutput* producer = vtkPVRenderView::GetPieceProducer(inInfo, this);
-    if (producer)
+    vtkDataObject* piece = producer && producer->GetProducer()
+      ? producer->GetProducer()->GetOutputDataObject(producer->GetIndex())
+      : nullptr;
+    const bool drawable =
+      vtkDataSet::SafeDownCast(piece) || vtkCompositeDataSet::SafeDownCast(piece);
+    if (drawable)
     {
       this->Mapper->SetInputConnection(producer);
     }
-    this->Actor->SetVisibility(producer && this->GetVisibility() ? 1 : 0);
+    this->Actor->SetVisibility(drawable && this->GetVisibility() ? 1 : 0);
   }
   return 1;
 }

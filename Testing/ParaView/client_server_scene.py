@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Renders two Sightline scenes with pvpython, either connected to a pvserver (--server
-HOST:PORT, remote rendering: the server draws and delivers the image) or builtin (no --server),
-and saves each as PNG plus a raw .npy of its pixels for test_client_server.py to compare.
+HOST:PORT) or builtin (no --server), and saves each as PNG plus a raw .npy of its pixels for
+test_client_server.py to compare. Connected, each scene is saved twice: rendered remotely
+(RemoteRenderThreshold 0: the server draws and delivers the image) and locally (the geometry is
+delivered and the client draws it); builtin, the two are the same render.
 
 Scenes: 'Spheres' (an SWC file read on the server, Sightline Spheres with its Radius array) and
 'PREM' (the Sightline Spherical Field source, PREM Density, as a Sightline Spherical Volume).
@@ -43,8 +45,6 @@ def make_view():
     view.Background = [0.1, 0.1, 0.15]
     view.UseColorPaletteForBackground = 0
     view.UseFXAA = 0
-    # 0 MB: always render on the server and deliver the image (never geometry) to the client.
-    view.RemoteRenderThreshold = 0
     SetActiveView(view)
     return view
 
@@ -57,6 +57,22 @@ def set_camera(view, centre, distance, direction, up):
     view.CameraViewUp = up
     view.CameraViewAngle = 30
     view.CameraParallelProjection = 0
+
+
+def save_both_ways(view, output, name, remote, local_is_remote=False):
+    """Saves the view rendered on the server (RemoteRenderThreshold 0: the image is delivered)
+    as `name`, then with local rendering asked for (a threshold no data reaches: the geometry
+    is delivered and the client draws it) as `name`Local. On a server, checks where the view
+    really rendered; `local_is_remote` for representations that insist on the server."""
+    for suffix, threshold, expected in (("", 0.0, True), ("Local", 1e9, local_is_remote)):
+        view.RemoteRenderThreshold = threshold
+        Render(view)
+        if remote:
+            distributed = view.GetClientSideObject().GetUseDistributedRenderingForRender()
+            print(f"{name}{suffix}: rendered on the {'server' if distributed else 'client'}")
+            if bool(distributed) != expected:
+                fail(f"{name}{suffix}: expected rendering on the {'server' if expected else 'client'}")
+        save(view, output, name + suffix)
 
 
 def save(view, output, name):
@@ -114,8 +130,7 @@ def main():
     centre = [(b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2]
     radius = 0.5 * math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
     set_camera(view, centre, 2.2 * radius, [1.0, -0.6, 0.8], [0, 0, 1])
-    Render(view)
-    save(view, args.output, "Spheres")
+    save_both_ways(view, args.output, "Spheres", bool(args.server))
     Delete(view)
 
     # PREM through the spherical field source, traced as a spherical volume.
@@ -137,8 +152,8 @@ def main():
     # centred at the origin with the largest r as its radius.
     outer = source.GetDataInformation().GetBounds()[1]
     set_camera(view, [0.0, 0.0, 0.0], 4.5 * outer, [3.0, -2.0, 2.0], [0, 0, 1])
-    Render(view)
-    save(view, args.output, "PREM")
+    # The spherical volume is traced where its grid is: it keeps the server rendering.
+    save_both_ways(view, args.output, "PREM", bool(args.server), local_is_remote=True)
     Delete(view)
     print("done")
 

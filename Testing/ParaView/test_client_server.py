@@ -4,9 +4,10 @@
 A driver run by /usr/bin/python3 (ctest): it starts `pvserver` on a free localhost port (on 2 MPI
 ranks through mpirun when mpirun exists, else 1 process) with PV_PLUGIN_PATH pointing at the
 plugin, waits until the server accepts connections, runs client_server_scene.py in pvpython
-connected to it (the server reads the data and renders; RemoteRenderThreshold 0 delivers the
-image), runs the same scene builtin (pvpython, no server), and compares each pair of images: at
-most 0.1 % of pixels may differ by more than 24/255. The server's whole session is killed at the
+connected to it (the server reads the data; each scene rendered remotely, RemoteRenderThreshold
+0, and with local rendering asked for, where the geometry goes to the client), runs the same
+scenes builtin (pvpython, no server), and compares each pair of images: at most 0.1 % of pixels
+may differ by more than 24/255. The server's whole session is killed at the
 end whatever happened, so no process outlives the test and no port stays taken.
 
 Environment (from Testing/ParaView/CMakeLists.txt): SIGHTLINE_PVSERVER, SIGHTLINE_PVPYTHON,
@@ -185,7 +186,7 @@ def main():
             return 1
 
     ok = True
-    for name in ("Spheres", "PREM"):
+    for name in ("Spheres", "SpheresLocal", "PREM", "PREMLocal"):
         remote = np.load(os.path.join(remote_dir, f"{name}.npy")).astype(int)
         builtin = np.load(os.path.join(builtin_dir, f"{name}.npy")).astype(int)
         if remote.shape != builtin.shape:
@@ -195,8 +196,9 @@ def main():
         background = np.round(np.array([0.1, 0.1, 0.15]) * 255).astype(int)
         covered = float(np.mean(np.abs(builtin - background).max(axis=2) > 8))
         fraction = float(np.mean(np.abs(remote - builtin).max(axis=2) > 24))
-        print(f"{name}: {covered:.1%} of pixels covered; client-server ({ranks} ranks, remote "
-              f"rendering) vs builtin: {fraction:.4%} of pixels differ by more than 24/255")
+        mode = "local" if name.endswith("Local") else "remote"
+        print(f"{name}: {covered:.1%} of pixels covered; client-server ({ranks} ranks, {mode} "
+              f"rendering asked) vs builtin: {fraction:.4%} of pixels differ by more than 24/255")
         if covered < 0.02:
             print(f"FAIL {name}: the builtin image is (almost) empty")
             ok = False

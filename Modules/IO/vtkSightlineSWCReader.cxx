@@ -122,7 +122,7 @@ int vtkSightlineSWCReader::RequestData(
     }
     if (tokens.size() < 7)
     {
-      vtkErrorMacro(<< name << "' line " << lineNumber << ": " << tokens.size()
+      vtkErrorMacro(<< name << " line " << lineNumber << ": " << tokens.size()
                     << " fields; an SWC sample needs 7 (id type x y z radius parent).");
       return 0;
     }
@@ -149,19 +149,19 @@ int vtkSightlineSWCReader::RequestData(
     if (!std::isfinite(s.position[0]) || !std::isfinite(s.position[1]) ||
       !std::isfinite(s.position[2]) || !std::isfinite(s.radius))
     {
-      vtkErrorMacro(<< name << "' line " << lineNumber << ": sample " << s.id
+      vtkErrorMacro(<< name << " line " << lineNumber << ": sample " << s.id
                     << " has a non-finite position or radius.");
       return 0;
     }
     if (s.radius < 0.0)
     {
-      vtkErrorMacro(<< name << "' line " << lineNumber << ": sample " << s.id
+      vtkErrorMacro(<< name << " line " << lineNumber << ": sample " << s.id
                     << " has the negative radius " << s.radius << ".");
       return 0;
     }
     if (!indexOfId.emplace(s.id, samples.size()).second)
     {
-      vtkErrorMacro(<< name << "' line " << lineNumber << ": the id " << s.id
+      vtkErrorMacro(<< name << " line " << lineNumber << ": the id " << s.id
                     << " was already used on line " << samples[indexOfId[s.id]].line << ".");
       return 0;
     }
@@ -169,7 +169,7 @@ int vtkSightlineSWCReader::RequestData(
   }
   if (samples.empty())
   {
-    vtkErrorMacro(<< name << "' has no samples.");
+    vtkErrorMacro(<< name << " has no samples.");
     return 0;
   }
 
@@ -188,7 +188,7 @@ int vtkSightlineSWCReader::RequestData(
     const auto parent = indexOfId.find(s.parent);
     if (parent == indexOfId.end())
     {
-      vtkErrorMacro(<< name << "' line " << s.line << ": the parent " << s.parent
+      vtkErrorMacro(<< name << " line " << s.line << ": the parent " << s.parent
                     << " of sample " << s.id << " is not in the file.");
       return 0;
     }
@@ -249,7 +249,7 @@ int vtkSightlineSWCReader::RequestData(
       seen[i] = 1;
       i = parentIndex[i];
     }
-    vtkErrorMacro(<< name << "': the parents of sample " << samples[i].id << " (line "
+    vtkErrorMacro(<< name << ": the parents of sample " << samples[i].id << " (line "
                   << samples[i].line << ") form a cycle; " << (n - reachedCount)
                   << " samples do not descend from a root.");
     return 0;
@@ -321,7 +321,7 @@ int vtkSightlineSWCReader::RequestData(
   output->GetPointData()->AddArray(parents);
   if (this->NumberOfZeroRadii > 0)
   {
-    vtkWarningMacro(<< name << "': " << this->NumberOfZeroRadii << " of " << n
+    vtkWarningMacro(<< name << ": " << this->NumberOfZeroRadii << " of " << n
                     << " samples have radius 0.");
   }
   return 1;

@@ -2,6 +2,8 @@
 #include "vtkSightlineRepresentation.h"
 
 #include "vtkActor.h"
+#include "vtkAlgorithm.h"
+#include "vtkAlgorithmOutput.h"
 #include "vtkBoundingBox.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
@@ -9,6 +11,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVRenderView.h"
 #include "vtkProperty.h"
@@ -53,6 +56,38 @@ void DataObjectBounds(vtkDataObject* data, double bounds[6])
   {
     vtkMath::UninitializeBounds(bounds);
   }
+}
+
+// A shallow copy of `data` as a vtkMultiBlockDataSet: a multiblock as it is, a data set as its
+// only block, another composite (partitioned collections) as a flat list of its leaves.
+vtkSmartPointer<vtkMultiBlockDataSet> AsMultiBlock(vtkDataObject* data)
+{
+  auto blocks = vtkSmartPointer<vtkMultiBlockDataSet>::New();
+  if (auto* multiBlock = vtkMultiBlockDataSet::SafeDownCast(data))
+  {
+    blocks->ShallowCopy(multiBlock);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    unsigned int block = 0;
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      vtkSmartPointer<vtkDataObject> leaf;
+      leaf.TakeReference(it->GetCurrentDataObject()->NewInstance());
+      leaf->ShallowCopy(it->GetCurrentDataObject());
+      blocks->SetBlock(block++, leaf);
+    }
+  }
+  else if (data)
+  {
+    vtkSmartPointer<vtkDataObject> copy;
+    copy.TakeReference(data->NewInstance());
+    copy->ShallowCopy(data);
+    blocks->SetBlock(0, copy);
+  }
+  return blocks;
 }
 }
 
@@ -101,11 +136,20 @@ int vtkSightlineRepresentation::RequestData(
     if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
     {
       // A shallow copy, so that the view delivers this frame's data even if the pipeline
-      // re-executes before the next render.
-      this->Cache.TakeReference(input->NewInstance());
-      this->Cache->ShallowCopy(input);
+      // re-executes before the next render; always a vtkMultiBlockDataSet (see below).
+      this->Cache = AsMultiBlock(input);
       DataObjectBounds(this->Cache, this->DataBounds);
     }
+  }
+  if (!this->Cache)
+  {
+    // A pvserver's client has no input. With local rendering the view moves every rank's piece
+    // to the client, which must offer a piece of the same type as the servers' (the move's
+    // output type is the local piece's): with none it receives nothing while the server sends
+    // and aborts on the unexpected message ("Wrong tag"); with another type it gets an empty
+    // object. So every process holds a multiblock, the client an empty one, as
+    // vtkGeometryRepresentation does.
+    this->Cache = vtkSmartPointer<vtkMultiBlockDataSet>::New();
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);
 }
@@ -125,12 +169,19 @@ int vtkSightlineRepresentation::ProcessViewRequest(
   }
   else if (request == vtkPVView::REQUEST_RENDER())
   {
+    // A client of a pvserver that renders remotely gets no data, only a placeholder
+    // vtkDataObject: nothing to draw there, and no input for the mapper to refuse.
     vtkAlgorithmOutput* producer = vtkPVRenderView::GetPieceProducer(inInfo, this);
-    if (producer)
+    vtkDataObject* piece = producer && producer->GetProducer()
+      ? producer->GetProducer()->GetOutputDataObject(producer->GetIndex())
+      : nullptr;
+    const bool drawable =
+      vtkDataSet::SafeDownCast(piece) || vtkCompositeDataSet::SafeDownCast(piece);
+    if (drawable)
     {
       this->Mapper->SetInputConnection(producer);
     }
-    this->Actor->SetVisibility(producer && this->GetVisibility() ? 1 : 0);
+    this->Actor->SetVisibility(drawable && this->GetVisibility() ? 1 : 0);
   }
   return 1;
 }

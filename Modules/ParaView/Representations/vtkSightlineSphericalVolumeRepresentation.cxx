@@ -73,6 +73,9 @@ int vtkSightlineSphericalVolumeRepresentation::ProcessViewRequest(
   {
     vtkPVView::SetPiece(inInfo, this, this->Cache);
     vtkPVRenderView::SetGeometryBounds(inInfo, this, this->DataBounds);
+    // Traced where the grid is (see REQUEST_RENDER): a pvserver's client, which has no grid,
+    // must not render locally, so the view renders on the server whatever the data size.
+    vtkPVRenderView::SetRequiresDistributedRendering(inInfo, this, true);
   }
   else if (request == vtkPVView::REQUEST_RENDER())
   {

@@ -32,6 +32,11 @@ TEMP = os.environ.get("SIGHTLINE_TEST_TEMP_DIR", tempfile.gettempdir())
 SWC_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data", "SWC")
 BUNDLES = "/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip"
 SIZE = (400, 300)
+BASELINES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data", "Baseline", "ParaView")
+# Against the stored baseline, at most this fraction of pixels may differ by more than 24/255
+# (Mesa's rasterisation of ParaView's own props and the ray tracer's float rounding vary a
+# little between machines; the ray-traced primitives themselves are deterministic).
+BASELINE_TOLERANCE = 0.005
 
 LoadPlugin(PLUGIN, ns=globals())
 import sightline  # noqa: E402  (after ParaView's vtkmodules are on the path)
@@ -92,7 +97,17 @@ def reference_image(view, prop):
     return pixels
 
 
-def save_png(pixels, name):
+def read_png(path):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    w, h, _ = image.GetDimensions()
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].copy()
+
+
+def save_png(pixels, name, folder=TEMP):
     from vtkmodules.vtkIOImage import vtkPNGWriter
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonDataModel import vtkImageData
@@ -101,7 +116,7 @@ def save_png(pixels, name):
     image.SetDimensions(w, h, 1)
     image.GetPointData().SetScalars(numpy_to_vtk(pixels.reshape(-1, 3).copy()))
     writer = vtkPNGWriter()
-    writer.SetFileName(os.path.join(TEMP, name))
+    writer.SetFileName(os.path.join(folder, name))
     writer.SetInputData(image)
     writer.Write()
 
@@ -155,6 +170,16 @@ class ParaViewPluginTest(unittest.TestCase):
         fraction = differing_fraction(pv_pixels, ref_pixels)
         print(f"{name}: {coverage:.1%} of pixels covered, {fraction:.3%} differ from the VTK mapper")
         self.assertLessEqual(fraction, tolerance, name)
+        # And against the stored baseline (SIGHTLINE_UPDATE_BASELINES=1 rewrites it).
+        baseline = os.path.join(BASELINES, f"{name}.png")
+        if os.environ.get("SIGHTLINE_UPDATE_BASELINES") == "1":
+            save_png(pv_pixels, f"{name}.png", BASELINES)
+        self.assertTrue(os.path.exists(baseline), f"no baseline {baseline}")
+        stored = read_png(baseline)
+        self.assertEqual(stored.shape, pv_pixels.shape, name)
+        drift = differing_fraction(pv_pixels, stored)
+        print(f"{name}: {drift:.3%} differ from the baseline")
+        self.assertLessEqual(drift, BASELINE_TOLERANCE, f"{name} against {baseline}")
         return pv_pixels
 
     def test_readers_are_registered_for_their_extensions(self):

@@ -39,9 +39,10 @@ constexpr int MaxAxes = 4;
 // most 1032 n (plus a little for tiny streams): a bound on what a .mif.gz can hold, known
 // before anything is inflated.
 constexpr long long MaxDeflateRatio = 1032;
-// Compressed data are inflated into the buffer this many bytes at a time, so that a file that
-// promises more than it holds is found out before much memory is taken.
-constexpr std::size_t InflateStep = 16u << 20;
+// The data are read (inflated, for gzip) this many bytes at a time into one reused buffer and
+// scattered into the output, so that memory holds the requested extent plus this step, and a
+// file that promises more than it holds is found out before much memory is taken.
+constexpr std::size_t ReadStep = 1u << 20;
 
 /// The file's bytes as a stream: as they are, or inflated on the fly when they are gzip
 /// (one member or several, as gzip and MRtrix write them). The file is read a block at a
@@ -709,7 +710,7 @@ int vtkSightlineMIFReader::RequestData(
   bool complete = source.SkipTo(start);
   while (complete && done < size)
   {
-    const std::size_t step = std::min(size - done, InflateStep);
+    const std::size_t step = std::min(size - done, ReadStep);
     buffer.resize(step);
     const std::size_t got = source.Read(buffer.data(), step);
     done += got;

@@ -70,6 +70,15 @@ bool InputFile::Open(const char* fileName, bool fromString, const std::string& i
     return false;
   }
   this->Length = static_cast<long long>(end);
+  // Something that opens but cannot be read (a directory) is named as such here, not later as
+  // a file without a valid header.
+  char first;
+  this->File.seekg(0);
+  if (this->Length > 0 && !this->File.read(&first, 1))
+  {
+    error = "Cannot read " + InputName(fileName, false) + ".";
+    return false;
+  }
   return true;
 }
 

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SightlineReaderInput.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -34,6 +36,104 @@ bool LoadInput(const char* fileName, bool fromString, const std::string& inputSt
     return false;
   }
   return true;
+}
+
+bool InputFile::Open(const char* fileName, bool fromString, const std::string& inputString,
+  std::string& error)
+{
+  this->String = nullptr;
+  this->BlockSize = 0;
+  if (fromString)
+  {
+    this->String = &inputString;
+    this->Length = static_cast<long long>(inputString.size());
+    return true;
+  }
+  if (!fileName || !*fileName)
+  {
+    error = "No FileName was set.";
+    return false;
+  }
+  this->File.close();
+  this->File.clear();
+  this->File.open(fileName, std::ios::binary);
+  if (!this->File)
+  {
+    error = "Cannot open " + InputName(fileName, false) + " (missing or unreadable).";
+    return false;
+  }
+  this->File.seekg(0, std::ios::end);
+  const std::streamoff end = this->File.tellg();
+  if (!this->File || end < 0)
+  {
+    error = "Cannot read " + InputName(fileName, false) + ".";
+    return false;
+  }
+  this->Length = static_cast<long long>(end);
+  // Something that opens but cannot be read (a directory) is named as such here, not later as
+  // a file without a valid header.
+  char first;
+  this->File.seekg(0);
+  if (this->Length > 0 && !this->File.read(&first, 1))
+  {
+    error = "Cannot read " + InputName(fileName, false) + ".";
+    return false;
+  }
+  return true;
+}
+
+std::size_t InputFile::ReadAt(long long offset, char* data, std::size_t size)
+{
+  if (offset < 0 || offset >= this->Length || size == 0)
+  {
+    return 0;
+  }
+  size = static_cast<std::size_t>(
+    std::min<long long>(static_cast<long long>(size), this->Length - offset));
+  if (this->String)
+  {
+    std::memcpy(data, this->String->data() + offset, size);
+    return size;
+  }
+  constexpr std::size_t blockBytes = 1u << 16;
+  std::size_t done = 0;
+  while (done < size)
+  {
+    const long long at = offset + static_cast<long long>(done);
+    if (at >= this->BlockStart && at < this->BlockStart + static_cast<long long>(this->BlockSize))
+    {
+      const std::size_t from = static_cast<std::size_t>(at - this->BlockStart);
+      const std::size_t n = std::min(size - done, this->BlockSize - from);
+      std::memcpy(data + done, this->Block.data() + from, n);
+      done += n;
+      continue;
+    }
+    this->File.clear();
+    this->File.seekg(at);
+    if (size - done >= blockBytes)
+    {
+      // Large reads go straight to the caller's buffer.
+      this->File.read(data + done, static_cast<std::streamsize>(size - done));
+      const std::size_t n = static_cast<std::size_t>(this->File.gcount());
+      done += n;
+      break;
+    }
+    this->Block.resize(blockBytes);
+    this->File.read(this->Block.data(), static_cast<std::streamsize>(blockBytes));
+    this->BlockStart = at;
+    this->BlockSize = static_cast<std::size_t>(this->File.gcount());
+    if (this->BlockSize == 0)
+    {
+      break;
+    }
+  }
+  return done;
+}
+
+int InputFile::ByteAt(long long offset)
+{
+  char c;
+  return this->ReadAt(offset, &c, 1) == 1 ? static_cast<unsigned char>(c) : -1;
 }
 
 namespace

@@ -6,7 +6,9 @@
 #define SightlineReaderInput_h
 
 #include <cstddef>
+#include <fstream>
 #include <string>
+#include <vector>
 
 namespace sightline_io
 {
@@ -14,6 +16,30 @@ namespace sightline_io
 /// False, with `error` set (valid UTF-8), when no file name is set or the file cannot be read.
 bool LoadInput(const char* fileName, bool fromString, const std::string& inputString,
   std::string& bytes, std::string& error);
+
+/// Random access to a reader's bytes without holding them all: the file `fileName` read a block
+/// at a time (so that a reader asked for one piece of a file holds about that piece), or
+/// `inputString` when `fromString`. Open fails with the messages of LoadInput.
+class InputFile
+{
+public:
+  bool Open(const char* fileName, bool fromString, const std::string& inputString,
+    std::string& error);
+  /// The input's length in bytes.
+  long long Size() const { return this->Length; }
+  /// Up to `size` bytes from `offset` into `data`; fewer only at the end (or on a read error).
+  std::size_t ReadAt(long long offset, char* data, std::size_t size);
+  /// The byte at `offset`, or -1 past the end.
+  int ByteAt(long long offset);
+
+private:
+  const std::string* String = nullptr;
+  std::ifstream File;
+  long long Length = 0;
+  std::vector<char> Block; // a cache of the file from BlockStart
+  long long BlockStart = 0;
+  std::size_t BlockSize = 0;
+};
 
 /// `text` as valid, printable UTF-8 for an error message: well-formed UTF-8 sequences and
 /// printable ASCII are kept, every other byte (control characters, stray or overlong UTF-8

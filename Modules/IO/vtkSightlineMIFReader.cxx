@@ -22,6 +22,8 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <tuple>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -37,29 +39,27 @@ constexpr int MaxAxes = 4;
 // most 1032 n (plus a little for tiny streams): a bound on what a .mif.gz can hold, known
 // before anything is inflated.
 constexpr long long MaxDeflateRatio = 1032;
-// Compressed data are inflated into the buffer this many bytes at a time, so that a file that
-// promises more than it holds is found out before much memory is taken.
-constexpr std::size_t InflateStep = 16u << 20;
+// The data are read (inflated, for gzip) this many bytes at a time into one reused buffer and
+// scattered into the output, so that memory holds the requested extent plus this step, and a
+// file that promises more than it holds is found out before much memory is taken.
+constexpr std::size_t ReadStep = 1u << 20;
 
 /// The file's bytes as a stream: as they are, or inflated on the fly when they are gzip
-/// (one member or several, as gzip and MRtrix write them).
+/// (one member or several, as gzip and MRtrix write them). The file is read a block at a
+/// time, never held whole; uncompressed data can be skipped by seeking.
 class Source
 {
 public:
-  explicit Source(const std::string& bytes)
-    : Bytes(bytes)
-    , Compressed(bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
-        static_cast<unsigned char>(bytes[1]) == 0x8b)
+  explicit Source(InputFile& file)
+    : File(file)
+    , Compressed(file.ByteAt(0) == 0x1f && file.ByteAt(1) == 0x8b)
   {
     if (this->Compressed)
     {
       std::memset(&this->Stream, 0, sizeof(this->Stream));
       this->Initialized = inflateInit2(&this->Stream, 15 + 16) == Z_OK;
       this->Ready = this->Initialized;
-      this->Stream.next_in =
-        reinterpret_cast<Bytef*>(const_cast<char*>(this->Bytes.data()));
-      this->Stream.avail_in = static_cast<uInt>(
-        std::min<std::size_t>(this->Bytes.size(), std::numeric_limits<uInt>::max()));
+      this->In.resize(1u << 16);
       this->Window.resize(1u << 16);
     }
   }
@@ -79,7 +79,7 @@ public:
   /// What the stored bytes could hold at most.
   long long MaxSize() const
   {
-    const long long stored = static_cast<long long>(this->Bytes.size());
+    const long long stored = this->File.Size();
     return this->Compressed ? stored * MaxDeflateRatio + 1024 : stored;
   }
   /// A message from zlib when the stream is damaged, else "".
@@ -90,8 +90,9 @@ public:
   {
     if (!this->Compressed)
     {
-      return this->At < this->Bytes.size() ? static_cast<unsigned char>(this->Bytes[this->At++])
-                                           : -1;
+      const int c = this->File.ByteAt(static_cast<long long>(this->At));
+      this->At += c >= 0 ? 1 : 0;
+      return c;
     }
     if (this->WindowAt == this->WindowEnd && !this->Fill())
     {
@@ -104,16 +105,16 @@ public:
   /// Up to `size` bytes into `data`; fewer only at the end of the input.
   std::size_t Read(unsigned char* data, std::size_t size)
   {
+    if (!this->Compressed)
+    {
+      const std::size_t n = this->File.ReadAt(
+        static_cast<long long>(this->At), reinterpret_cast<char*>(data), size);
+      this->At += n;
+      return n;
+    }
     std::size_t done = 0;
     while (done < size)
     {
-      if (!this->Compressed)
-      {
-        const std::size_t n = std::min(size - done, this->Bytes.size() - this->At);
-        std::memcpy(data + done, this->Bytes.data() + this->At, n);
-        this->At += n;
-        return done + n;
-      }
       if (this->WindowAt == this->WindowEnd && !this->Fill())
       {
         break;
@@ -128,12 +129,22 @@ public:
   }
 
   /// Skips forward to `offset` (at or after the current position); false past the end.
+  /// Uncompressed data are skipped by seeking; compressed ones are inflated and dropped.
   bool SkipTo(std::size_t offset)
   {
-    unsigned char scratch[4096];
+    if (!this->Compressed)
+    {
+      if (static_cast<long long>(offset) > this->File.Size())
+      {
+        return false;
+      }
+      this->At = std::max(this->At, offset);
+      return true;
+    }
+    std::vector<unsigned char> scratch(1u << 16);
     while (this->At < offset)
     {
-      if (this->Read(scratch, std::min(sizeof(scratch), offset - this->At)) == 0)
+      if (this->Read(scratch.data(), std::min(scratch.size(), offset - this->At)) == 0)
       {
         return false;
       }
@@ -141,18 +152,32 @@ public:
     return true;
   }
 
-  /// Uncompressed data may be used in place: the stored bytes from `offset`.
-  const unsigned char* StoredBytes(std::size_t offset) const
+private:
+  // At least `count` unread compressed bytes in In when the file has them.
+  void Refill(std::size_t count)
   {
-    return reinterpret_cast<const unsigned char*>(this->Bytes.data()) + offset;
+    if (this->Stream.avail_in >= count || this->InAt >= this->File.Size())
+    {
+      return;
+    }
+    if (this->Stream.avail_in > 0)
+    {
+      std::memmove(this->In.data(), this->Stream.next_in, this->Stream.avail_in);
+    }
+    const std::size_t kept = this->Stream.avail_in;
+    const std::size_t n = this->File.ReadAt(
+      this->InAt, reinterpret_cast<char*>(this->In.data()) + kept, this->In.size() - kept);
+    this->InAt += static_cast<long long>(n);
+    this->Stream.next_in = this->In.data();
+    this->Stream.avail_in = static_cast<uInt>(kept + n);
   }
 
-private:
   bool Fill()
   {
     this->WindowAt = this->WindowEnd = 0;
     while (this->Ready && this->WindowEnd == 0)
     {
+      this->Refill(1);
       if (this->Stream.avail_in == 0)
       {
         return false;
@@ -164,6 +189,7 @@ private:
       if (status == Z_STREAM_END)
       {
         // Another gzip member may follow; anything else after the stream is not data.
+        this->Refill(2);
         const bool member = this->Stream.avail_in >= 2 && this->Stream.next_in[0] == 0x1f &&
           this->Stream.next_in[1] == 0x8b;
         if (!member || inflateReset(&this->Stream) != Z_OK)
@@ -180,11 +206,13 @@ private:
     return this->WindowEnd > 0;
   }
 
-  const std::string& Bytes;
+  InputFile& File;
   const bool Compressed;
   bool Initialized = false; // inflateEnd is owed
   bool Ready = false;       // more can be inflated
   z_stream Stream;
+  std::vector<unsigned char> In; // compressed bytes read from the file, from InAt on
+  long long InAt = 0;
   std::vector<unsigned char> Window;
   std::size_t WindowAt = 0;
   std::size_t WindowEnd = 0;
@@ -451,7 +479,7 @@ bool ParseHeader(Source& source, Header& header, std::string& error)
 // The input's bytes, the stream over them, positioned after the header, and the header.
 struct Input
 {
-  std::string Bytes;
+  InputFile Bytes;
   std::unique_ptr<Source> Stream;
   Header Parsed;
 };
@@ -460,7 +488,7 @@ struct Input
 bool OpenInput(const char* fileName, bool fromString, const std::string& inputString,
   Input& input, std::string& error)
 {
-  if (!LoadInput(fileName, fromString, inputString, input.Bytes, error))
+  if (!input.Bytes.Open(fileName, fromString, inputString, error))
   {
     return false;
   }
@@ -506,12 +534,13 @@ vtkMatrix4x4* vtkSightlineMIFReader::GetTransformMatrix()
 //------------------------------------------------------------------------------
 int vtkSightlineMIFReader::CanReadFile(const char* fileName)
 {
-  std::string bytes, error;
-  if (!fileName || !LoadInput(fileName, false, std::string(), bytes, error))
+  InputFile file;
+  std::string error;
+  if (!fileName || !file.Open(fileName, false, std::string(), error))
   {
     return 0;
   }
-  Source source(bytes);
+  Source source(file);
   std::string line;
   for (int c = source.Next(); c >= 0 && c != '\n' && line.size() < 64; c = source.Next())
   {
@@ -569,6 +598,8 @@ int vtkSightlineMIFReader::RequestInformation(
     static_cast<int>(header.Dim[1] - 1), 0, static_cast<int>(header.Dim[2] - 1) };
   const double origin[3] = { 0.0, 0.0, 0.0 };
   outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  // Any sub-extent can be read: the pipeline splits piece requests into extents.
+  outInfo->Set(CAN_PRODUCE_SUB_EXTENT(), 1);
   outInfo->Set(vtkDataObject::SPACING(), header.Spacing.data(), 3);
   outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
   vtkDataObject::SetPointDataActiveScalarInfo(
@@ -600,86 +631,137 @@ int vtkSightlineMIFReader::RequestData(
   }
   const Header& header = input.Parsed;
   Source& source = *input.Stream;
-  const vtkIdType nx = header.Dim[0], ny = header.Dim[1], nz = header.Dim[2],
-                  nc = header.Dim[3];
-  const std::size_t size = static_cast<std::size_t>(header.Bytes);
+  const vtkIdType nc = header.Dim[3];
+  const std::size_t valueBytes = static_cast<std::size_t>(header.Type.Bytes);
   const std::size_t offset = static_cast<std::size_t>(header.DataOffset);
 
-  // Uncompressed data are used where they lie (ParseHeader checked that they are all there);
-  // compressed ones are inflated step by step, so that the buffer never runs far ahead of the
-  // data actually present.
-  const unsigned char* raw = nullptr;
-  std::vector<unsigned char> inflated;
-  if (!source.IsCompressed())
+  // The requested extent (the whole one unless a piece or sub-extent is asked for), within
+  // the image; all components always.
+  int extent[6] = { 0, static_cast<int>(header.Dim[0] - 1), 0,
+    static_cast<int>(header.Dim[1] - 1), 0, static_cast<int>(header.Dim[2] - 1) };
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
   {
-    raw = source.StoredBytes(offset);
+    int update[6];
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), update);
+    for (int a = 0; a < 3; ++a)
+    {
+      extent[2 * a] = std::max(extent[2 * a], update[2 * a]);
+      extent[2 * a + 1] = std::min(extent[2 * a + 1], update[2 * a + 1]);
+    }
   }
-  else
+  if (extent[0] > extent[1] || extent[2] > extent[3] || extent[4] > extent[5])
   {
-    std::size_t done = 0;
-    if (source.SkipTo(offset))
-    {
-      while (done < size)
-      {
-        const std::size_t step = std::min(size - done, InflateStep);
-        inflated.resize(done + step);
-        const std::size_t got = source.Read(inflated.data() + done, step);
-        done += got;
-        if (got < step)
-        {
-          break;
-        }
-      }
-    }
-    if (done < size)
-    {
-      vtkErrorMacro(<< name << " is truncated: the header promises " << size << " bytes of "
-                    << Quote(header.DataType) << " data at offset " << offset << ", but only "
-                    << done << " could be inflated"
-                    << (source.Error().empty() ? "" : " (gzip: " + source.Error() + ")")
-                    << ".");
-      return 0;
-    }
-    raw = inflated.data();
+    return 1; // an empty piece
   }
+  const vtkIdType ex = extent[1] - extent[0] + 1, ey = extent[3] - extent[2] + 1,
+                  ez = extent[5] - extent[4] + 1;
 
-  int extent[6] = { 0, static_cast<int>(nx - 1), 0, static_cast<int>(ny - 1), 0,
-    static_cast<int>(nz - 1) };
+  // Only the data between the first and the last requested position along the slowest axis on
+  // disk are read (a contiguous run of the file): uncompressed data are skipped by seeking,
+  // compressed ones inflated and dropped, and the run is read a step at a time and scattered
+  // into the output, so that memory holds the piece, not the image.
+  int outer = 0;
+  for (int a = 1; a < MaxAxes; ++a)
+  {
+    if (header.Dim[a] > 1 && (header.Dim[outer] == 1 || header.Stride[a] > header.Stride[outer]))
+    {
+      outer = a;
+    }
+  }
+  vtkIdType low = 0, high = header.Dim[outer] - 1; // disk indices along `outer`
+  if (outer < 3)
+  {
+    vtkIdType lo = extent[2 * outer], hi = extent[2 * outer + 1]; // MRtrix indices
+    if (outer == 2 && this->SlicesReversed)
+    {
+      std::tie(lo, hi) = std::make_pair(header.Dim[2] - 1 - hi, header.Dim[2] - 1 - lo);
+    }
+    if (header.Reversed[outer])
+    {
+      std::tie(lo, hi) = std::make_pair(header.Dim[outer] - 1 - hi, header.Dim[outer] - 1 - lo);
+    }
+    low = lo;
+    high = hi;
+  }
+  const vtkIdType outerStride = header.Dim[outer] > 1 ? header.Stride[outer] : header.Count;
+  const std::size_t firstElement = static_cast<std::size_t>(low * outerStride);
+  const std::size_t elements = static_cast<std::size_t>((high - low + 1) * outerStride);
+  const std::size_t start = offset + firstElement * valueBytes;
+  const std::size_t size = elements * valueBytes;
+
   output->SetExtent(extent);
   output->SetSpacing(header.Spacing.data());
   output->SetOrigin(0.0, 0.0, 0.0);
   vtkNew<vtkFloatArray> values;
   values->SetName("SHCoefficients");
   values->SetNumberOfComponents(static_cast<int>(nc));
-  values->SetNumberOfTuples(nx * ny * nz);
+  values->SetNumberOfTuples(ex * ey * ez);
   float* out = values->GetPointer(0);
 
-  // Disk position of MRtrix voxel index n along axis a: n, or (size-1-n) for a reversed axis.
-  auto position = [&](int a, vtkIdType n) {
-    return (header.Reversed[a] ? header.Dim[a] - 1 - n : n) * header.Stride[a];
-  };
-  for (vtkIdType k = 0; k < nz; ++k)
+  // The disk index of each axis for the element being read (an odometer in disk order, the
+  // fastest axis first), starting at the run's first element.
+  std::array<int, MaxAxes> order{ { 0, 1, 2, 3 } };
+  std::stable_sort(order.begin(), order.end(),
+    [&](int a, int b) { return header.Stride[a] < header.Stride[b]; });
+  std::array<vtkIdType, MaxAxes> disk{ { 0, 0, 0, 0 } };
+  disk[outer] = low;
+  std::vector<unsigned char> buffer;
+  std::size_t done = 0;
+  bool complete = source.SkipTo(start);
+  while (complete && done < size)
   {
-    // VTK slice k is MRtrix slice nz-1-k when the slices are reversed (see the class comment).
-    const vtkIdType sourceK = this->SlicesReversed ? nz - 1 - k : k;
-    const vtkIdType baseK = position(2, sourceK);
-    for (vtkIdType j = 0; j < ny; ++j)
+    const std::size_t step = std::min(size - done, ReadStep);
+    buffer.resize(step);
+    const std::size_t got = source.Read(buffer.data(), step);
+    done += got;
+    if (got < step)
     {
-      const vtkIdType baseJ = baseK + position(1, j);
-      for (vtkIdType i = 0; i < nx; ++i)
+      complete = false;
+    }
+    for (std::size_t e = 0; e + valueBytes <= got; e += valueBytes)
+    {
+      // Disk index -> MRtrix index -> VTK index (slices reversed for a left-handed grid).
+      vtkIdType index[MaxAxes];
+      for (int a = 0; a < MaxAxes; ++a)
       {
-        const vtkIdType baseI = baseJ + position(0, i);
-        float* tuple = out + ((k * ny + j) * nx + i) * nc;
-        for (vtkIdType c = 0; c < nc; ++c)
+        index[a] = header.Reversed[a] ? header.Dim[a] - 1 - disk[a] : disk[a];
+      }
+      if (this->SlicesReversed)
+      {
+        index[2] = header.Dim[2] - 1 - index[2];
+      }
+      if (index[0] >= extent[0] && index[0] <= extent[1] && index[1] >= extent[2] &&
+        index[1] <= extent[3] && index[2] >= extent[4] && index[2] <= extent[5])
+      {
+        const double stored = Convert(buffer.data() + e, header.Type);
+        out[(((index[2] - extent[4]) * ey + (index[1] - extent[2])) * ex +
+              (index[0] - extent[0])) * nc + index[3]] =
+          static_cast<float>(header.ScaleOffset + header.ScaleMultiplier * stored);
+      }
+      for (const int a : order)
+      {
+        if (header.Dim[a] == 1)
         {
-          const vtkIdType element = baseI + position(3, c);
-          const double stored =
-            Convert(raw + static_cast<std::size_t>(element) * header.Type.Bytes, header.Type);
-          tuple[c] =
-            static_cast<float>(header.ScaleOffset + header.ScaleMultiplier * stored);
+          continue;
         }
+        if (++disk[a] < header.Dim[a])
+        {
+          break;
+        }
+        disk[a] = 0;
       }
     }
+  }
+  if (done < size)
+  {
+    const std::size_t inflated = source.Position() > offset ? source.Position() - offset : 0;
+    vtkErrorMacro(<< name << " is truncated: the header promises " << header.Bytes
+                  << " bytes of " << Quote(header.DataType) << " data at offset " << offset
+                  << ", but only " << inflated << " could be "
+                  << (source.IsCompressed() ? "inflated" : "read")
+                  << (source.Error().empty() ? "" : " (gzip: " + source.Error() + ")") << ".");
+    output->Initialize();
+    return 0;
   }
   output->GetPointData()->SetScalars(values);
   return 1;

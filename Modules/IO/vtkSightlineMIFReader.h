@@ -33,6 +33,16 @@
  * are then read in steps), so a small file cannot make the reader allocate much. Text quoted
  * from the file in messages is escaped to printable UTF-8.
  *
+ * Pieces (pvbatch/pvserver ranks): the reader produces any sub-extent of WHOLE_EXTENT
+ * (CAN_PRODUCE_SUB_EXTENT), so the pipeline turns a piece request into an UPDATE_EXTENT with
+ * its extent translator, and only that extent is read, with all components (the 4th axis).
+ * The file is never loaded whole: the reader reads the contiguous run of data between the first
+ * and the last requested position along the slowest axis on disk (for MRtrix's usual layouts, z)
+ * a step at a time, skipping what comes before it by seeking (by inflating and dropping for
+ * .mif.gz), and keeps only the requested voxels. As for any structured data set, neighbouring
+ * pieces share the voxels on their common face and split the cells. Truncation is reported
+ * when the requested data are not all there.
+ *
  * @sa vtkNIFTIImageReader
  */
 #ifndef vtkSightlineMIFReader_h

@@ -12,6 +12,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "SightlineReaderInput.h"
 
@@ -82,10 +83,26 @@ void vtkSightlineSWCReader::SetInputString(const std::string& text)
   }
 }
 
+int vtkSightlineSWCReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
 int vtkSightlineSWCReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkPolyData* output = vtkPolyData::GetData(outInfo);
+  // SWC files are small (a neuron is thousands of samples): piece 0 reads the whole file and
+  // every other piece is empty.
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) > 0)
+  {
+    output->Initialize();
+    return 1;
+  }
   this->NumberOfRoots = this->NumberOfBranchPoints = this->NumberOfZeroRadii = 0;
   std::string text, error;
   if (!sightline_io::LoadInput(

@@ -25,6 +25,11 @@
  * radius, a negative radius, a duplicate id, a parent id that is not in the file, or a cycle of
  * parents (reported with one id on it). Nothing is output then. Numbers too small for a
  * normal double (e.g. 1e-310) are read as they are.
+ *
+ * Pieces (pvbatch/pvserver ranks): the reader takes piece requests (CAN_HANDLE_PIECE_REQUEST);
+ * piece 0 reads the whole file and every other piece is empty. SWC files are small (thousands
+ * of samples, kilobytes to a few megabytes), so splitting a tree across ranks is not worth its
+ * cost; piece 0 of 1 is the plain read.
  */
 #ifndef vtkSightlineSWCReader_h
 #define vtkSightlineSWCReader_h
@@ -68,6 +73,8 @@ protected:
   vtkSightlineSWCReader();
   ~vtkSightlineSWCReader() override;
 
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 

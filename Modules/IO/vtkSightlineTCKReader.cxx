@@ -8,10 +8,12 @@
 #include "vtkObjectFactory.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "SightlineMRtrixHeader.h"
 #include "SightlineReaderInput.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -54,22 +56,42 @@ int vtkSightlineTCKReader::CanReadFile(const char* fileName)
   return file && std::getline(file, first) && Trim(first) == kMagic;
 }
 
+int vtkSightlineTCKReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
 int vtkSightlineTCKReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
-  std::string bytes, error;
-  if (!LoadInput(this->FileName, this->ReadFromInputString, this->InputString, bytes, error))
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkPolyData* output = vtkPolyData::GetData(outInfo);
+  int piece = 0, pieces = 1;
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
+  {
+    piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+    pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+  }
+  if (pieces < 1 || piece < 0 || piece >= pieces)
+  {
+    piece = 0;
+    pieces = 1;
+  }
+  InputFile input;
+  std::string error;
+  if (!input.Open(this->FileName, this->ReadFromInputString, this->InputString, error))
   {
     vtkErrorMacro(<< error);
     return 0;
   }
   const std::string name = InputName(this->FileName, this->ReadFromInputString);
-  std::size_t at = 0;
+  long long at = 0;
   MRtrixHeader header;
-  if (!ReadMRtrixHeader(
-        [&] { return at < bytes.size() ? static_cast<unsigned char>(bytes[at++]) : -1; },
-        kMagic, "MRtrix track file", header, error))
+  if (!ReadMRtrixHeader([&] { return input.ByteAt(at++); }, kMagic, "MRtrix track file", header,
+        error))
   {
     vtkErrorMacro(<< name << ": " << error);
     return 0;
@@ -85,7 +107,7 @@ int vtkSightlineTCKReader::RequestData(
   }
   const std::string location = header.Value("file");
   long long offset = -1;
-  const long long size = static_cast<long long>(bytes.size());
+  const long long size = input.Size();
   if (!ParseDataFileEntry(location, offset) || offset < static_cast<long long>(header.Size) ||
     offset > size)
   {
@@ -95,76 +117,160 @@ int vtkSightlineTCKReader::RequestData(
     return 0;
   }
 
-  // The data: triplets until the Inf triplet, converted in place to the host's byte order.
+  // The data: triplets until the Inf triplet, read a chunk at a time and converted to the
+  // host's byte order. A streamline is a run of points ended by a NaN (or the Inf) triplet;
+  // `visit` sees each triplet and returns false to stop.
   const std::size_t valueSize = static_cast<std::size_t>(type.Bytes);
-  const std::size_t triplets = (bytes.size() - offset) / (3 * valueSize);
-  char* raw = &bytes[offset];
-  ToHostByteOrder(raw, 3 * triplets, type);
-  auto value = [&](std::size_t index) {
-    if (valueSize == 4)
+  const std::size_t tripletBytes = 3 * valueSize;
+  const long long triplets = (size - offset) / static_cast<long long>(tripletBytes);
+  auto scan = [&](auto&& visit) {
+    constexpr long long chunkTriplets = 1 << 14;
+    std::vector<char> chunk(static_cast<std::size_t>(chunkTriplets) * tripletBytes);
+    for (long long t0 = 0; t0 < triplets; t0 += chunkTriplets)
     {
-      float v;
-      std::memcpy(&v, raw + 4 * index, 4);
-      return static_cast<double>(v);
+      const long long count = std::min(chunkTriplets, triplets - t0);
+      const std::size_t bytes = static_cast<std::size_t>(count) * tripletBytes;
+      if (input.ReadAt(offset + t0 * static_cast<long long>(tripletBytes), chunk.data(),
+            bytes) != bytes)
+      {
+        return; // a read error: as if the file ended here
+      }
+      ToHostByteOrder(chunk.data(), static_cast<std::size_t>(3 * count), type);
+      for (long long t = 0; t < count; ++t)
+      {
+        double p[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          const char* v = chunk.data() + (3 * t + a) * valueSize;
+          if (valueSize == 4)
+          {
+            float f;
+            std::memcpy(&f, v, 4);
+            p[a] = f;
+          }
+          else
+          {
+            std::memcpy(&p[a], v, 8);
+          }
+        }
+        if (!visit(p))
+        {
+          return;
+        }
+      }
     }
-    double v;
-    std::memcpy(&v, raw + 8 * index, 8);
-    return v;
   };
+  auto isEnd = [](const double p[3]) {
+    return std::isinf(p[0]) || std::isinf(p[1]) || std::isinf(p[2]);
+  };
+  auto isBreak = [](const double p[3]) {
+    return std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2]);
+  };
+
+  // This piece's streamlines: [piece * N / pieces, (piece + 1) * N / pieces) of the N in the
+  // file, the last piece also taking any beyond N (so a wrong `count` loses nothing). N is the
+  // header's count, or found by a scan that stores nothing.
+  const std::string count = header.Value("count");
+  long long expected = -1;
+  if (count.empty() || !ParseInteger(count, expected) || expected < 0)
+  {
+    expected = -1;
+  }
+  long long total = expected;
+  if (pieces > 1 && total < 0)
+  {
+    total = 0;
+    bool open = false;
+    scan([&](const double p[3]) {
+      if (isEnd(p) || isBreak(p))
+      {
+        total += open ? 1 : 0;
+        open = false;
+        return !isEnd(p);
+      }
+      open = true;
+      return true;
+    });
+  }
+  const long long first = pieces > 1 ? total * piece / pieces : 0;
+  const long long last =
+    piece + 1 < pieces ? total * (piece + 1) / pieces : std::numeric_limits<long long>::max();
+
   // Points are stored in single precision: a finite Float64 value beyond its range would
   // become an infinity.
   constexpr double largest = std::numeric_limits<float>::max();
   vtkNew<vtkPoints> points;
   vtkNew<vtkCellArray> lines;
   std::vector<double> current; // the streamline being read, added once it is complete
-  bool finished = false, outOfRange = false;
-  vtkIdType skipped = 0, firstSkipped = -1;
+  bool open = false;           // a streamline has started (whether or not it is this piece's)
+  bool finished = false, outOfRange = false, toEnd = false;
+  long long streamline = 0; // index of the streamline being read in the file
+  vtkIdType skipped = 0;
+  long long firstSkipped = -1;
   double badValue = 0.0;
   auto endStreamline = [&] {
-    if (outOfRange)
+    if (open && streamline >= first)
     {
-      firstSkipped = skipped == 0 ? lines->GetNumberOfCells() : firstSkipped;
-      ++skipped;
-    }
-    else if (!current.empty())
-    {
-      const vtkIdType first = points->GetNumberOfPoints();
-      const vtkIdType count = static_cast<vtkIdType>(current.size() / 3);
-      lines->InsertNextCell(count);
-      for (vtkIdType k = 0; k < count; ++k)
+      if (outOfRange)
       {
-        points->InsertNextPoint(&current[3 * k]);
-        lines->InsertCellPoint(first + k);
+        firstSkipped = skipped == 0 ? streamline : firstSkipped;
+        ++skipped;
+      }
+      else
+      {
+        const vtkIdType firstPoint = points->GetNumberOfPoints();
+        const vtkIdType n = static_cast<vtkIdType>(current.size() / 3);
+        lines->InsertNextCell(n);
+        for (vtkIdType k = 0; k < n; ++k)
+        {
+          points->InsertNextPoint(&current[3 * k]);
+          lines->InsertCellPoint(firstPoint + k);
+        }
       }
     }
+    streamline += open ? 1 : 0;
+    open = false;
     current.clear();
     outOfRange = false;
   };
-  for (std::size_t t = 0; t < triplets; ++t)
+  if (first < last)
   {
-    const double p[3] = { value(3 * t), value(3 * t + 1), value(3 * t + 2) };
-    if (std::isinf(p[0]) || std::isinf(p[1]) || std::isinf(p[2]))
-    {
-      finished = true;
-      endStreamline();
-      break;
-    }
-    if (std::isnan(p[0]) || std::isnan(p[1]) || std::isnan(p[2]))
-    {
-      endStreamline();
-      continue;
-    }
-    for (const double v : p)
-    {
-      if (std::fabs(v) > largest && !outOfRange)
+    toEnd = true;
+    scan([&](const double p[3]) {
+      if (isEnd(p))
       {
-        outOfRange = true;
-        badValue = skipped == 0 ? v : badValue;
+        finished = true;
+        endStreamline();
+        return false;
       }
-    }
-    current.insert(current.end(), p, p + 3);
+      if (isBreak(p))
+      {
+        endStreamline();
+        if (streamline >= last)
+        {
+          toEnd = false; // this piece's streamlines are read; the rest are other pieces'
+          return false;
+        }
+        return true;
+      }
+      open = true;
+      if (streamline < first)
+      {
+        return true;
+      }
+      for (int a = 0; a < 3; ++a)
+      {
+        if (std::fabs(p[a]) > largest && !outOfRange)
+        {
+          outOfRange = true;
+          badValue = skipped == 0 ? p[a] : badValue;
+        }
+      }
+      current.insert(current.end(), p, p + 3);
+      return true;
+    });
   }
-  if (!finished)
+  if (toEnd && !finished)
   {
     vtkWarningMacro(<< name << " has no end marker (cut short?); " << lines->GetNumberOfCells()
                     << " complete streamlines read"
@@ -176,13 +282,10 @@ int vtkSightlineTCKReader::RequestData(
                     << firstSkipped << ", with the value " << badValue
                     << ") have coordinates beyond single precision and were left out.");
   }
-  const std::string count = header.Value("count");
-  long long expected = 0;
-  if (!count.empty() &&
-    (!ParseInteger(count, expected) || expected != lines->GetNumberOfCells() + skipped))
+  if (toEnd && !count.empty() && (expected < 0 || expected != streamline))
   {
     vtkWarningMacro(<< name << ": the header's count is " << Quote(count) << " but "
-                    << lines->GetNumberOfCells() + skipped << " streamlines were read.");
+                    << streamline << " streamlines were read.");
   }
   output->SetPoints(points);
   output->SetLines(lines);

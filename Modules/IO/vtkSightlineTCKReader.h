@@ -16,6 +16,14 @@
  * line, a header without END, `file` or a known `datatype`, or a data offset inside the header
  * or beyond the file are errors. Text quoted from the file in messages is escaped to printable
  * UTF-8.
+ *
+ * Pieces (pvbatch/pvserver ranks): the reader takes piece requests (CAN_HANDLE_PIECE_REQUEST).
+ * Piece p of n gets streamlines [p N / n, (p + 1) N / n) of the file's N, in file order, the
+ * last piece also any beyond N; N is the header's `count`, or, without one, found by a first
+ * pass that only counts NaN triplets. The file is read a chunk at a time and only the
+ * piece's points are stored, so a piece holds about 1/n of the points (the streamlines before
+ * it are scanned, not kept). Piece 0 of 1 is the whole file. The end-of-file warnings (no end
+ * marker, a count that disagrees) come from the piece that reads to the end.
  */
 #ifndef vtkSightlineTCKReader_h
 #define vtkSightlineTCKReader_h
@@ -56,6 +64,8 @@ protected:
   vtkSightlineTCKReader();
   ~vtkSightlineTCKReader() override;
 
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 

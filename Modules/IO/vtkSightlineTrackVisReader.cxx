@@ -13,6 +13,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "SightlineReaderInput.h"
 
@@ -110,27 +111,49 @@ int vtkSightlineTrackVisReader::CanReadFile(const char* fileName)
   return file.read(id, 6) && std::memcmp(id, "TRACK", 5) == 0;
 }
 
+int vtkSightlineTrackVisReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  outputVector->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+  return 1;
+}
+
 int vtkSightlineTrackVisReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkPolyData* output = vtkPolyData::GetData(outInfo);
+  int piece = 0, pieces = 1;
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
+  {
+    piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+    pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+  }
+  if (pieces < 1 || piece < 0 || piece >= pieces)
+  {
+    piece = 0;
+    pieces = 1;
+  }
   this->VoxmmToRAS->Identity();
-  std::string input, error;
-  if (!sightline_io::LoadInput(
-        this->FileName, this->ReadFromInputString, this->InputString, input, error))
+  sightline_io::InputFile input;
+  std::string error;
+  if (!input.Open(this->FileName, this->ReadFromInputString, this->InputString, error))
   {
     vtkErrorMacro(<< error);
     return 0;
   }
   const std::string name = sightline_io::InputName(this->FileName, this->ReadFromInputString);
-  if (input.size() < static_cast<std::size_t>(kHeaderSize) ||
-    std::memcmp(input.data(), "TRACK", 5) != 0)
+  char headerBytes[kHeaderSize];
+  if (input.Size() < kHeaderSize ||
+    input.ReadAt(0, headerBytes, kHeaderSize) != static_cast<std::size_t>(kHeaderSize) ||
+    std::memcmp(headerBytes, "TRACK", 5) != 0)
   {
     vtkErrorMacro(<< name << " is not a TrackVis file: it does not start with a " << kHeaderSize
                   << "-byte header whose id is TRACK.");
     return 0;
   }
-  const char* header = input.data();
+  const char* header = headerBytes;
   // The header size (1000) tells the byte order: read as the host's, or swapped.
   const Decoder native(false), swapped(true);
   Decoder decode = native;
@@ -291,8 +314,11 @@ int vtkSightlineTrackVisReader::RequestData(
     vtkMatrix4x4::Multiply4x4(toRAS, this->VoxmmToRAS, this->VoxmmToRAS);
   }
 
-  // The streamlines.
-  const std::string_view body(input.data() + kHeaderSize, input.size() - kHeaderSize);
+  // The streamlines, read one at a time from the file. This piece's are
+  // [piece * N / pieces, (piece + 1) * N / pieces) of the N in the file, the last piece also
+  // taking any beyond N (so a wrong n_count loses nothing); the others' are skipped by their
+  // point counts, never read. N is the header's n_count, or counted by such a skipping scan.
+  const long long bodySize = input.Size() - kHeaderSize;
   vtkNew<vtkPoints> points;
   vtkNew<vtkCellArray> lines;
   std::vector<vtkSmartPointer<vtkFloatArray>> scalarArrays(scalars), propertyArrays(properties);
@@ -307,20 +333,76 @@ int vtkSightlineTrackVisReader::RequestData(
     propertyArrays[p]->SetName(sightline_io::Quote(FieldName(header + 240 + 20 * p, "property_" + std::to_string(p))).c_str());
   }
   const std::size_t pointBytes = 4u * (3u + scalars);
-  std::size_t at = 0;
-  std::vector<double> mapped;
-  bool cut = false;
-  vtkIdType streamline = 0, skipped = 0, firstSkipped = -1;
-  while (at + 4 <= body.size())
-  {
-    const std::int32_t count = decode.Get<std::int32_t>(body.data() + at);
-    if (count < 0)
+  const std::int32_t expected = decode.Get<std::int32_t>(header + 988);
+  // The point count of the streamline at `at` (relative to the body) and its size in bytes;
+  // false at the end of the body, with `negative` set for a negative count.
+  auto next = [&](long long at, std::int32_t& count, long long& bytes, bool& negative) {
+    char raw[4];
+    negative = false;
+    if (at + 4 > bodySize || input.ReadAt(kHeaderSize + at, raw, 4) != 4)
     {
-      vtkErrorMacro(<< name << ": streamline " << streamline << " has the negative point count " << count << ".");
-      return 0;
+      return false;
     }
-    const std::size_t bytes = 4 + count * pointBytes + 4u * properties;
-    if (at + bytes > body.size())
+    count = decode.Get<std::int32_t>(raw);
+    negative = count < 0;
+    bytes = 4 + static_cast<long long>(count) * static_cast<long long>(pointBytes) +
+      4LL * properties;
+    return !negative;
+  };
+  long long total = expected > 0 ? expected : 0;
+  if (pieces > 1 && expected <= 0)
+  {
+    std::int32_t count;
+    long long bytes;
+    bool negative;
+    for (long long at = 0; next(at, count, bytes, negative) && at + bytes <= bodySize; at += bytes)
+    {
+      ++total;
+    }
+  }
+  const long long firstWanted = pieces > 1 ? total * piece / pieces : 0;
+  const long long lastWanted =
+    piece + 1 < pieces ? total * (piece + 1) / pieces : std::numeric_limits<long long>::max();
+
+  long long at = 0;
+  std::vector<double> mapped;
+  std::vector<char> buffer;
+  bool cut = false, toEnd = firstWanted < lastWanted;
+  vtkIdType streamline = 0, skipped = 0, firstSkipped = -1;
+  while (toEnd && at + 4 <= bodySize)
+  {
+    if (streamline >= lastWanted)
+    {
+      toEnd = false; // the rest are other pieces'
+      break;
+    }
+    std::int32_t count = 0;
+    long long bytes = 0;
+    bool negative = false;
+    if (!next(at, count, bytes, negative))
+    {
+      if (negative)
+      {
+        vtkErrorMacro(<< name << ": streamline " << streamline << " has the negative point count " << count << ".");
+        output->Initialize();
+        return 0;
+      }
+      cut = true;
+      break;
+    }
+    if (at + bytes > bodySize)
+    {
+      cut = true;
+      break;
+    }
+    if (streamline < firstWanted)
+    {
+      at += bytes;
+      ++streamline;
+      continue;
+    }
+    buffer.resize(static_cast<std::size_t>(bytes));
+    if (input.ReadAt(kHeaderSize + at, buffer.data(), buffer.size()) != buffer.size())
     {
       cut = true;
       break;
@@ -328,7 +410,7 @@ int vtkSightlineTrackVisReader::RequestData(
     // The points first, mapped: a streamline with a NaN or infinite coordinate, or one that
     // maps beyond float range, is left out whole (its scalars and properties with it).
     mapped.resize(3 * static_cast<std::size_t>(count));
-    const char* data = body.data() + at + 4;
+    const char* data = buffer.data() + 4;
     bool finite = true;
     for (std::int32_t k = 0; k < count; ++k)
     {
@@ -374,14 +456,13 @@ int vtkSightlineTrackVisReader::RequestData(
                     << "coordinates, or coordinates beyond single precision in RAS, and were "
                     << "left out (the first is streamline " << firstSkipped << ").");
   }
-  if (cut || at != body.size())
+  if (toEnd && (cut || at != bodySize))
   {
     vtkWarningMacro(<< name << " ends inside streamline " << streamline
                     << " (cut short?); the " << lines->GetNumberOfCells()
                     << " complete streamlines are kept.");
   }
-  const std::int32_t expected = decode.Get<std::int32_t>(header + 988);
-  if (expected > 0 && expected != streamline)
+  if (toEnd && expected > 0 && expected != streamline)
   {
     vtkWarningMacro(<< name << ": the header's n_count is " << expected << " but "
                     << streamline << " streamlines were read.");

@@ -21,6 +21,14 @@
  * voxel-to-RAS matrix that is not finite and invertible. Warnings: a file cut inside a
  * streamline (the complete ones are kept); streamlines with NaN or infinite coordinates
  * (left out, the first one named). Text quoted from the file is escaped to printable UTF-8.
+ *
+ * Pieces (pvbatch/pvserver ranks): the reader takes piece requests (CAN_HANDLE_PIECE_REQUEST).
+ * Piece p of n gets streamlines [p N / n, (p + 1) N / n) of the file's N, in file order, with
+ * their scalars and properties, the last piece also any beyond N; N is the header's n_count,
+ * or, when it is 0 (unknown), counted by a scan that reads only the point counts and seeks
+ * past the points. The streamlines before the piece are skipped the same way, so a piece reads
+ * and holds only its own points (about 1/n). Piece 0 of 1 is the whole file. The end-of-file
+ * warnings (cut short, an n_count that disagrees) come from the piece that reads to the end.
  */
 #ifndef vtkSightlineTrackVisReader_h
 #define vtkSightlineTrackVisReader_h
@@ -78,6 +86,8 @@ protected:
   vtkSightlineTrackVisReader();
   ~vtkSightlineTrackVisReader() override;
 
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 

@@ -90,8 +90,10 @@ int vtkSightlineSphericalFieldSource::RequestInformation(
       cells += std::max(1, int(std::lround(this->RadialResolution * (ends[s + 1] - ends[s]) / total)));
     extent[1] = cells;
   }
-  outputVector->GetInformationObject(0)->Set(
-    vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  // Any sub-extent can be produced: the pipeline splits piece requests into extents.
+  outInfo->Set(CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
@@ -99,7 +101,8 @@ int vtkSightlineSphericalFieldSource::RequestInformation(
 int vtkSightlineSphericalFieldSource::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkRectilinearGrid* output = vtkRectilinearGrid::GetData(outputVector, 0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkRectilinearGrid* output = vtkRectilinearGrid::GetData(outInfo);
   const double r0 = this->RadiusRange[0], r1 = this->RadiusRange[1];
   if (!(r1 > 0.0))
   {
@@ -178,23 +181,54 @@ int vtkSightlineSphericalFieldSource::RequestData(
       field = [r1, chi](double r, double, double) { return chi(r / r1); };
   }
 
+  // The requested extent, cut from the whole grid's breakpoints (so the alignment with the
+  // discontinuities is the whole grid's, whatever the split): point indices along r, theta, phi.
+  int extent[6] = { 0, int(grid.radius.size()) - 1, 0, int(grid.polar.size()) - 1, 0,
+    int(grid.azimuth.size()) - 1 };
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    int update[6];
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), update);
+    for (int a = 0; a < 3; ++a)
+    {
+      extent[2 * a] = std::max(extent[2 * a], update[2 * a]);
+      extent[2 * a + 1] = std::min(extent[2 * a + 1], update[2 * a + 1]);
+    }
+  }
+  if (extent[0] > extent[1] || extent[2] > extent[3] || extent[4] > extent[5])
+  {
+    output->Initialize(); // an empty piece (more pieces than cells)
+    return 1;
+  }
+  auto cut = [&](const std::vector<double>& b, int axis) {
+    return std::vector<double>(b.begin() + extent[2 * axis], b.begin() + extent[2 * axis + 1] + 1);
+  };
+  const std::vector<double> radius = cut(grid.radius, 0), polar = cut(grid.polar, 1),
+                            azimuth = cut(grid.azimuth, 2);
+
   vtkNew<vtkDoubleArray> values;
   values->SetName(this->GetFieldAsString());
   try
   {
     if (this->OutputCellData)
     {
-      const std::vector<double> cells = sightline::sampleCellMidpoints(grid, field);
-      values->SetNumberOfTuples(static_cast<vtkIdType>(cells.size()));
-      std::copy(cells.begin(), cells.end(), values->GetPointer(0));
+      // Each cell at its coordinate midpoint, as sightline::sampleCellMidpoints samples it.
+      const std::size_t nr = radius.size() - 1, np = polar.size() - 1, na = azimuth.size() - 1;
+      values->SetNumberOfTuples(vtkIdType(nr * np * na));
+      vtkIdType id = 0;
+      for (std::size_t k = 0; k < na; ++k)
+        for (std::size_t j = 0; j < np; ++j)
+          for (std::size_t i = 0; i < nr; ++i)
+            values->SetValue(id++, field(0.5 * (radius[i] + radius[i + 1]),
+              0.5 * (polar[j] + polar[j + 1]), 0.5 * (azimuth[k] + azimuth[k + 1])));
     }
     else
     {
-      values->SetNumberOfTuples(vtkIdType(grid.radius.size() * grid.polar.size() * grid.azimuth.size()));
+      values->SetNumberOfTuples(vtkIdType(radius.size() * polar.size() * azimuth.size()));
       vtkIdType id = 0;
-      for (double phi : grid.azimuth)
-        for (double theta : grid.polar)
-          for (double r : grid.radius)
+      for (double phi : azimuth)
+        for (double theta : polar)
+          for (double r : radius)
             values->SetValue(id++, field(r, theta, phi));
     }
   }
@@ -211,10 +245,10 @@ int vtkSightlineSphericalFieldSource::RequestData(
     std::copy(b.begin(), b.end(), array->GetPointer(0));
     return vtkSmartPointer<vtkDoubleArray>(array.Get());
   };
-  output->SetDimensions(int(grid.radius.size()), int(grid.polar.size()), int(grid.azimuth.size()));
-  output->SetXCoordinates(coordinates(grid.radius));
-  output->SetYCoordinates(coordinates(grid.polar));
-  output->SetZCoordinates(coordinates(grid.azimuth));
+  output->SetExtent(extent);
+  output->SetXCoordinates(coordinates(radius));
+  output->SetYCoordinates(coordinates(polar));
+  output->SetZCoordinates(coordinates(azimuth));
   if (this->OutputCellData)
     output->GetCellData()->SetScalars(values);
   else

@@ -23,6 +23,14 @@
  * cell never straddles a jump. Off reproduces the thesis' benchmark grids, where the step falls
  * inside a cell.
  *
+ * Pieces (pvbatch/pvserver ranks): the source can produce any sub-extent
+ * (CAN_PRODUCE_SUB_EXTENT), so the pipeline turns a piece request into an UPDATE_EXTENT with
+ * its extent translator; only that part of the grid is made (its coordinates and values). The
+ * whole grid's breakpoints are computed first and then cut, so the alignment with the
+ * discontinuities, and every value, is the whole grid's whatever the split. As for any
+ * structured data set, neighbouring pieces share the points on their common face and split
+ * the cells.
+ *
  * @sa vtkSightlineSphericalVolumeMapper
  */
 #ifndef vtkSightlineSphericalFieldSource_h

@@ -4,7 +4,9 @@
 // Besides crashes, hangs, leaks and out-of-memory (libFuzzer, ASan, UBSan), it traps on
 // results the readers promise never to give: an error or warning text that is not valid
 // UTF-8, a polyline point index outside the points, a non-finite streamline point, or image
-// scalars that do not cover the image.
+// scalars that do not cover the image. Each input is read whole and then as piece 1 of 3 (what
+// a pvbatch/pvserver rank asks for), which must satisfy the same checks and hold no more points
+// than the whole.
 #include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
 #include "vtkCommand.h"
@@ -128,5 +130,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   reader->ReadFromInputStringOn();
   reader->Update();
   CheckOutput(reader->GetOutput());
+  const vtkIdType whole = reader->GetOutput()->GetNumberOfPoints();
+  reader->Modified(); // a piece inside the whole output would not be read again
+  reader->UpdatePiece(1, 3, 0);
+  CheckOutput(reader->GetOutput());
+  if (whole > 0 && reader->GetOutput()->GetNumberOfPoints() > whole)
+  {
+    __builtin_trap();
+  }
   return 0;
 }

@@ -5,12 +5,14 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPVRenderView.h"
 #include "vtkRectilinearGrid.h"
 #include "vtkRenderer.h"
 #include "vtkSightlineSphericalVolumeMapper.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkVolumeProperty.h"
 
 vtkStandardNewMacro(vtkSightlineSphericalVolumeRepresentation);
@@ -37,13 +39,46 @@ int vtkSightlineSphericalVolumeRepresentation::FillInputPortInformation(int, vtk
   return 1;
 }
 
+int vtkSightlineSphericalVolumeRepresentation::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestUpdateExtent(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  // Until ranks blend volumes in visibility order, one rank traces the whole grid: IceT's
+  // depth compositing of two ranks' halves of a translucent volume keeps only the nearer half
+  // at each pixel. Rank 0 asks for the whole extent, the others for none (sources and readers
+  // that honour sub-extents then make nothing there).
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool root = !controller || controller->GetLocalProcessId() == 0;
+  for (int i = 0; i < inputVector[0]->GetNumberOfInformationObjects(); ++i)
+  {
+    vtkInformation* inInfo = inputVector[0]->GetInformationObject(i);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), root ? 0 : 1);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), root ? 1 : 2);
+    if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      int extent[6] = { 0, -1, 0, -1, 0, -1 };
+      if (root)
+      {
+        inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent);
+      }
+      inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent, 6);
+    }
+  }
+  return 1;
+}
+
 int vtkSightlineSphericalVolumeRepresentation::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkMath::UninitializeBounds(this->DataBounds);
   this->DataSize = 0;
   this->Cache = nullptr;
-  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool root = !controller || controller->GetLocalProcessId() == 0;
+  if (root && inputVector[0]->GetNumberOfInformationObjects() == 1)
   {
     if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
     {

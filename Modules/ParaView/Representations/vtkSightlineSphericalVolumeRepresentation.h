@@ -8,6 +8,10 @@
  * opacity unit distance, shading and the actor's transform come from vtkVolumeRepresentation,
  * as for ParaView's own "Volume". The grid's coordinates are read as spherical or cylindrical
  * ones by the vtkSightlineSphericalVolumeMapper this forwards to.
+ *
+ * On several MPI ranks, rank 0 traces the whole grid and the other ranks ask for nothing:
+ * translucent pieces need compositing in visibility order, which IceT's depth compositing is
+ * not.
  */
 #ifndef vtkSightlineSphericalVolumeRepresentation_h
 #define vtkSightlineSphericalVolumeRepresentation_h
@@ -50,6 +54,8 @@ protected:
   ~vtkSightlineSphericalVolumeRepresentation() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
   bool AddToView(vtkView* view) override;

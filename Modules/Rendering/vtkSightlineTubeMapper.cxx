@@ -12,6 +12,7 @@
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkUnstructuredGrid.h"
 
 #include "sightline/tubes/TubeSet.h"
 
@@ -21,6 +22,45 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkSightlineTubeMapper);
+
+namespace
+{
+// Calls visit(cellId, ids) for each line or polyline cell of the input: vtkPolyData's lines
+// (numbered after its verts), or the VTK_LINE and VTK_POLY_LINE cells of any other point set.
+// ParaView's RedistributeDataSet (and D3, Append Datasets) hand polylines on as an unstructured
+// grid, so each MPI rank's piece of a set of streamlines arrives as one.
+template <typename Visit>
+vtkIdType ForEachPolyline(vtkPointSet* input, vtkIdList* ids, Visit&& visit)
+{
+  vtkIdType found = 0;
+  if (auto* poly = vtkPolyData::SafeDownCast(input))
+  {
+    vtkCellArray* lines = poly->GetLines();
+    const vtkIdType firstLine = poly->GetNumberOfVerts();
+    for (vtkIdType c = 0; lines && c < lines->GetNumberOfCells(); ++c)
+    {
+      lines->GetCellAtId(c, ids);
+      visit(firstLine + c, ids);
+      ++found;
+    }
+    return found;
+  }
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(input))
+  {
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      const int type = grid->GetCellType(c);
+      if (type == VTK_LINE || type == VTK_POLY_LINE)
+      {
+        grid->GetCellPoints(c, ids);
+        visit(c, ids);
+        ++found;
+      }
+    }
+  }
+  return found;
+}
+} // namespace
 
 vtkSightlineTubeMapper::vtkSightlineTubeMapper() = default;
 
@@ -139,39 +179,38 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   }
   else
   {
-    vtkPolyData* poly = vtkPolyData::SafeDownCast(input);
-    vtkCellArray* lines = poly ? poly->GetLines() : nullptr;
-    if (!lines || lines->GetNumberOfCells() == 0)
-    {
-      vtkErrorMacro(<< "The input has no polylines; give vtkPolyData lines or set "
-                       "PredecessorArrayName to a point array of predecessor indices.");
-      return nullptr;
-    }
     // A polyline naming a point the input does not have is left out whole, with a warning:
     // its links would come from memory past the points.
     vtkNew<vtkIdList> ids;
     vtkIdType skipped = 0;
-    for (vtkIdType c = 0; c < lines->GetNumberOfCells(); ++c)
-    {
-      lines->GetCellAtId(c, ids);
-      const vtkIdType* first = ids->GetPointer(0);
-      const vtkIdType* last = first + ids->GetNumberOfIds();
-      const vtkIdType* bad =
-        std::find_if(first, last, [count](vtkIdType id) { return id < 0 || id >= count; });
-      if (bad != last)
+    const vtkIdType lineCount = ForEachPolyline(input, ids,
+      [&](vtkIdType c, vtkIdList* cell)
       {
-        if (skipped++ == 0)
+        const vtkIdType* first = cell->GetPointer(0);
+        const vtkIdType* last = first + cell->GetNumberOfIds();
+        const vtkIdType* bad =
+          std::find_if(first, last, [count](vtkIdType id) { return id < 0 || id >= count; });
+        if (bad != last)
         {
-          vtkWarningMacro(<< "Polyline " << c << " names point " << *bad << " but the input has "
-                          << count << " points (ids 0 to " << count - 1
-                          << "); such polylines are left out.");
+          if (skipped++ == 0)
+          {
+            vtkWarningMacro(<< "Polyline " << c << " names point " << *bad
+                            << " but the input has " << count << " points (ids 0 to "
+                            << count - 1 << "); such polylines are left out.");
+          }
+          return;
         }
-        continue;
-      }
-      for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-      {
-        add(ids->GetId(k), k == 0 ? -1 : std::int64_t(points.size()) - 1);
-      }
+        for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
+        {
+          add(cell->GetId(k), k == 0 ? -1 : std::int64_t(points.size()) - 1);
+        }
+      });
+    if (lineCount == 0)
+    {
+      vtkErrorMacro(<< "The input has no polylines; give line or polyline cells (vtkPolyData "
+                       "lines or an unstructured grid's) or set PredecessorArrayName to a point "
+                       "array of predecessor indices.");
+      return nullptr;
     }
     if (skipped > 1)
     {
@@ -231,24 +270,21 @@ void vtkSightlineTubeMapper::ComputeSelectionIds(
     }
     controlCell.assign(controlPoint.size(), -1);
   }
-  else if (vtkPolyData* poly = vtkPolyData::SafeDownCast(input))
+  else
   {
-    vtkCellArray* lines = poly->GetLines();
-    // vtkPolyData numbers its cells verts first, then lines.
-    const vtkIdType firstLine = poly->GetNumberOfVerts();
     vtkNew<vtkIdList> ids;
-    for (vtkIdType c = 0; lines && c < lines->GetNumberOfCells(); ++c)
-    {
-      lines->GetCellAtId(c, ids);
-      const vtkIdType* first = ids->GetPointer(0);
-      const vtkIdType* last = first + ids->GetNumberOfIds();
-      if (std::any_of(first, last, [count](vtkIdType id) { return id < 0 || id >= count; }))
+    ForEachPolyline(input, ids,
+      [&](vtkIdType c, vtkIdList* cell)
       {
-        continue;
-      }
-      controlPoint.insert(controlPoint.end(), first, last);
-      controlCell.insert(controlCell.end(), ids->GetNumberOfIds(), firstLine + c);
-    }
+        const vtkIdType* first = cell->GetPointer(0);
+        const vtkIdType* last = first + cell->GetNumberOfIds();
+        if (std::any_of(first, last, [count](vtkIdType id) { return id < 0 || id >= count; }))
+        {
+          return;
+        }
+        controlPoint.insert(controlPoint.end(), first, last);
+        controlCell.insert(controlCell.end(), cell->GetNumberOfIds(), c);
+      });
   }
   for (std::size_t p = 0; p < pointIds.size(); ++p)
   {

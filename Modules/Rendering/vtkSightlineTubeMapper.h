@@ -7,7 +7,9 @@
  * cone stump tangent to both spheres (Han et al. 2019): exact silhouettes and depth, varying
  * radius, bifurcations without seams. Input (vtkPolyData or any vtkPointSet):
  * - polylines: every line cell is a tube through its points (points shared by several cells,
- *   e.g. a branch point, are joined into each);
+ *   e.g. a branch point, are joined into each): vtkPolyData lines, or the VTK_LINE and
+ *   VTK_POLY_LINE cells of a vtkUnstructuredGrid (as ParaView's RedistributeDataSet hands on
+ *   each MPI rank's piece of a set of streamlines);
  * - or, with PredecessorArrayName set (e.g. "ParentIndex" of vtkSightlineSWCReader), each point
  *   linked to the point whose index the array gives (-1: none); bifurcations are points named by
  *   several others. Cyclic links and indices out of range are errors.

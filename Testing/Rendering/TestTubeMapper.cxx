@@ -5,6 +5,7 @@
 // Baselines with vtkTesting's metric, threshold 0.5.
 #include "SightlineTestUtilities.h"
 
+#include "vtkAppendFilter.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
@@ -15,6 +16,7 @@
 #include "vtkSightlineTubeMapper.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkSphereSource.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
 
@@ -30,12 +32,16 @@ namespace
 {
 using Scene = MapperScene<vtkSightlineTubeMapper>;
 
-vtkSmartPointer<vtkImageData> RenderNeuron(bool fromParents)
+// asGrid: the reader's polylines as VTK_POLY_LINE cells of a vtkUnstructuredGrid (vtkAppendFilter),
+// the form in which ParaView's RedistributeDataSet hands each MPI rank its piece.
+vtkSmartPointer<vtkImageData> RenderNeuron(bool fromParents, bool asGrid = false)
 {
   vtkNew<vtkSightlineSWCReader> reader;
   reader->SetFileName((std::string(SIGHTLINE_SOURCE_DIR) + "/Testing/Data/SWC/neuron_three_point_soma.swc").c_str());
+  vtkNew<vtkAppendFilter> toGrid;
+  toGrid->SetInputConnection(reader->GetOutputPort());
   Scene scene(320, 240);
-  scene.mapper->SetInputConnection(reader->GetOutputPort());
+  scene.mapper->SetInputConnection(asGrid ? toGrid->GetOutputPort() : reader->GetOutputPort());
   scene.mapper->SetRadiusArrayName("Radius");
   scene.mapper->ScalarVisibilityOff();
   if (fromParents)
@@ -74,6 +80,40 @@ TEST(TubeMapper, NeuronFromParentsAndFromPolylinesMatchesBaseline)
   EXPECT_GT(CoveredPixels(parents), 8000);
   EXPECT_LE(MaxRGBDifference(parents, polylines), 1);
   EXPECT_TRUE(MatchesBaseline(parents, "TubeNeuron", 0.5));
+}
+
+// Polylines in an unstructured grid (VTK_POLY_LINE cells) are the same tubes as in vtkPolyData:
+// before, the mapper read only vtkPolyData lines and refused the grid ("no polylines").
+TEST(TubeMapper, UnstructuredGridPolylinesDrawAsPolyDataLines)
+{
+  auto polylines = RenderNeuron(false);
+  auto grid = RenderNeuron(false, true);
+  EXPECT_GT(CoveredPixels(grid), 8000);
+  EXPECT_LE(MaxRGBDifference(polylines, grid), 1);
+
+  // Other cells of a grid (a vertex, a triangle) are no tubes; a grid with no line cell is an error.
+  vtkNew<vtkUnstructuredGrid> input;
+  vtkNew<vtkPoints> points;
+  for (double x : { 0.0, 1.0, 2.0, 3.0 })
+    points->InsertNextPoint(x, 0.0, 0.0);
+  input->SetPoints(points);
+  input->Allocate(3);
+  const vtkIdType vertex[1] = { 3 }, triangle[3] = { 0, 1, 3 }, line[3] = { 0, 1, 2 };
+  input->InsertNextCell(VTK_VERTEX, 1, vertex);
+  input->InsertNextCell(VTK_TRIANGLE, 3, triangle);
+  Scene scene(64, 64);
+  vtkNew<MessageCollector> messages;
+  messages->Observe(scene.mapper);
+  scene.mapper->SetInputDataObject(input);
+  scene.mapper->SetRadius(0.2);
+  scene.renderer->ResetCamera();
+  scene.window->Render();
+  EXPECT_TRUE(messages->Contains("no polylines"));
+  input->InsertNextCell(VTK_POLY_LINE, 3, line);
+  input->Modified();
+  scene.window->Render();
+  EXPECT_EQ(scene.mapper->GetNumberOfLinks(), 3);
+  EXPECT_GT(CoveredPixels(CaptureRGB(scene.window)), 0);
 }
 
 // A straight tube of radius r and length L seen side on (parallel projection) covers the area of

@@ -1,0 +1,212 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""The scenes of ParaView.MPI, run by `mpirun -np N pvbatch` (test_mpi.py starts it for N = 1, 2, 4).
+
+pvbatch runs this script on rank 0; every rank holds a piece of each filter's output and renders
+it, and IceT composites the ranks' colour and depth into rank 0's image. The TrackVis reader is
+not piece-aware (rank 0 reads the whole file, the others get nothing), so RedistributeDataSet
+spreads the streamlines over the ranks, each streamline kept whole on one rank ("Assign to one
+region"), as an unstructured grid of poly-line cells.
+
+A ProgrammableFilter after each data source records every rank's own piece (its points, cell
+count and rank) as NAME-piece-RANK.npz in --output, so the driver checks what each rank held.
+Each scene is saved as PNG and as .npy pixels under the same explicit camera.
+
+The functions are prefixed mpi_: a ProgrammableFilter's script runs in this script's namespace on
+rank 0 and star-imports numpy there, which replaced functions named save() and record().
+
+Scenes: Spheres (the streamlines' points, redistributed), Tubes (the streamlines, opaque,
+redistributed), TubesSplit (the same with RedistributeDataSet cutting streamlines at the regions'
+boundaries), Ranks (the tubes coloured by rank: vtkProcessId through a LUT), Unsplit (the
+reader's output as it is: all on rank 0, the other ranks empty). With --bad-rank R (and
+--scene-set bad): the redistributed points with a radius array that is NaN on rank R only.
+"""
+import argparse
+import os
+
+from paraview.simple import (CreateView, ColorBy, Delete, GetColorTransferFunction, Hide, LoadPlugin,
+                             OpenDataFile, ProcessIdScalars, ProgrammableFilter,
+                             RedistributeDataSet, Render, SaveScreenshot, SetActiveView, Show)
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+import numpy as np
+import sightline  # noqa: F401  (wraps the representations' mappers for mpi_drawn_points)
+
+SIZE = (640, 480)
+# The explicit camera (CST_R.trk of DIPY's minimal_bundles, sub_1): the same for every rank count.
+# Its points span x 5.8..38.5, y -57.3..21.2, z -81.4..52.5 (mm): seen from the right, a little
+# from the front and above, 270 mm from the middle.
+FOCAL_POINT = [22.0, -18.0, -14.0]
+POSITION = [272.0, -118.0, 16.0]
+VIEW_UP = [0.0, 0.0, 1.0]
+
+# Runs on every rank (a ProgrammableFilter executes where its piece is): passes the piece on and
+# saves what this rank holds.
+RECORD = """
+import numpy as np
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+from vtkmodules.util.numpy_support import vtk_to_numpy
+source = self.GetInputDataObject(0, 0)
+out = self.GetOutputDataObject(0)
+out.ShallowCopy(source)
+controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId() if controller else 0
+size = controller.GetNumberOfProcesses() if controller else 1
+points = source.GetPoints()
+xyz = vtk_to_numpy(points.GetData()).astype(float) if points is not None else np.zeros((0, 3))
+np.savez("{folder}/{name}-piece-%d.npz" % rank, points=xyz, cells=source.GetNumberOfCells(),
+         rank=rank, size=size)
+{extra}
+"""
+
+# A radius per point, NaN on one rank only: that rank's spheres are bad input.
+BAD_RADIUS = """
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+radius = np.full(source.GetNumberOfPoints(), {radius})
+if rank == {bad_rank}:
+    radius[:] = np.nan
+array = numpy_to_vtk(radius, deep=1)
+array.SetName("radius")
+out.GetPointData().AddArray(array)
+"""
+
+
+def mpi_record(source, folder, name, extra=""):
+    script = RECORD.format(folder=folder, name=name, extra=extra)
+    return ProgrammableFilter(Input=source, Script=script, CopyArrays=1)
+
+
+def mpi_make_view():
+    view = CreateView("RenderView")
+    view.ViewSize = list(SIZE)
+    view.OrientationAxesVisibility = 0
+    view.Background = [0.1, 0.1, 0.15]
+    view.UseColorPaletteForBackground = 0
+    view.UseFXAA = 0
+    SetActiveView(view)
+    return view
+
+
+def mpi_drawn_points(rep):
+    """Points in the input rank 0's Sightline mapper traced for `rep` (its own piece)."""
+    mapper = rep.GetClientSideObject().GetActiveRepresentation().GetSightlineMapper()
+    data = mapper.GetInputDataObject(0, 0)
+    if data is None:
+        return 0
+    if data.IsA("vtkCompositeDataSet"):
+        total, it = 0, data.NewIterator()
+        it.InitTraversal()
+        while not it.IsDoneWithTraversal():
+            total += it.GetCurrentDataObject().GetNumberOfPoints()
+            it.GoToNextItem()
+        return total
+    return data.GetNumberOfPoints()
+
+
+def mpi_save_view(view, folder, name, rep=None):
+    # paraview.simple resets the camera to the bounds on a view's first Render(): set the
+    # camera after it, so that every rank count renders from the same one.
+    Render(view)
+    view.CameraFocalPoint = FOCAL_POINT
+    view.CameraPosition = POSITION
+    view.CameraViewUp = VIEW_UP
+    view.CameraViewAngle = 30
+    view.CameraParallelProjection = 0
+    Render(view)
+    if rep is not None:
+        # Where the view rendered (distributed: every rank its piece, IceT compositing) and
+        # what rank 0 traced, for the driver to check against rank 0's piece.
+        distributed = view.GetClientSideObject().GetUseDistributedRenderingForRender()
+        print(f"{name}: distributed rendering {int(distributed)}, rank 0 traced "
+              f"{mpi_drawn_points(rep)} points", flush=True)
+    path = os.path.join(folder, f"{name}.png")
+    SaveScreenshot(path, view, ImageResolution=list(SIZE), TransparentBackground=0)
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    w, h, _ = image.GetDimensions()
+    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+    np.save(os.path.join(folder, f"{name}.npy"), pixels)
+    print(f"{name}: {path}", flush=True)
+
+
+def mpi_main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--plugin", required=True)
+    parser.add_argument("--trk", required=True)
+    parser.add_argument("--output", required=True)
+    parser.add_argument("--bad-rank", type=int, default=None)
+    args = parser.parse_args()
+    os.makedirs(args.output, exist_ok=True)
+    LoadPlugin(args.plugin)
+
+    reader = OpenDataFile(args.trk)
+    split = RedistributeDataSet(Input=reader)  # Boundary Mode: cells whole on one rank
+    view = mpi_make_view()
+
+    if args.bad_rank is not None:
+        bad = mpi_record(split, args.output, "BadRadius",
+                     BAD_RADIUS.format(radius=0.8, bad_rank=args.bad_rank))
+        rep = Show(bad, view)
+        rep.Representation = "Sightline Spheres"
+        rep.ColorArrayName = ["POINTS", ""]
+        rep.SphereRadiusArray = ["POINTS", "radius"]
+        mpi_save_view(view, args.output, "BadRadius", rep)
+        # The same points with the constant radius, for the driver's comparison.
+        rep.SphereRadiusArray = ["POINTS", ""]
+        rep.SphereRadius = 0.8
+        mpi_save_view(view, args.output, "GoodRadius")
+        Delete(view)  # (left to exit, the view's window made Mesa report GLXBadContext)
+        return 0
+
+    points = mpi_record(split, args.output, "Spheres")
+    rep = Show(points, view)
+    rep.Representation = "Sightline Spheres"
+    rep.ColorArrayName = ["POINTS", ""]  # Solid Color
+    rep.SphereRadius = 0.8
+    mpi_save_view(view, args.output, "Spheres", rep)
+    Hide(points, view)
+
+    rep = Show(split, view)
+    rep.Representation = "Sightline Tubes"
+    rep.ColorArrayName = ["POINTS", ""]
+    rep.TubeRadius = 0.6
+    mpi_save_view(view, args.output, "Tubes", rep)
+    Hide(split, view)
+
+    # Streamlines cut where the ranks' regions meet ("Split cells"): each rank holds its side of
+    # a cut link, both ending at the cut point, so the union is the same tube.
+    cut = mpi_record(RedistributeDataSet(Input=reader, BoundaryMode="Split cells"), args.output,
+                     "TubesSplit")
+    rep = Show(cut, view)
+    rep.Representation = "Sightline Tubes"
+    rep.ColorArrayName = ["POINTS", ""]
+    rep.TubeRadius = 0.6
+    mpi_save_view(view, args.output, "TubesSplit", rep)
+    Hide(cut, view)
+
+    ranks = ProcessIdScalars(Input=split)
+    rep = Show(ranks, view)
+    rep.Representation = "Sightline Tubes"
+    rep.TubeRadius = 0.6
+    ColorBy(rep, ("POINTS", "ProcessId"))
+    lut = GetColorTransferFunction("ProcessId")
+    lut.ApplyPreset("Rainbow Uniform", True)
+    lut.RescaleTransferFunction(0.0, 3.0)
+    mpi_save_view(view, args.output, "Ranks")
+    Hide(ranks, view)
+
+    whole = mpi_record(reader, args.output, "Unsplit")
+    rep = Show(whole, view)
+    rep.Representation = "Sightline Spheres"
+    rep.ColorArrayName = ["POINTS", ""]
+    rep.SphereRadius = 0.8
+    mpi_save_view(view, args.output, "Unsplit", rep)
+    Delete(view)  # (left to exit, the view's window made Mesa report GLXBadContext)
+    return 0
+
+
+# No sys.exit(): pvbatch then leaves without MPI_Finalize and mpirun reports the job as failed.
+# An exception still makes pvbatch exit non-zero.
+mpi_main()

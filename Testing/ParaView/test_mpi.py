@@ -1,0 +1,214 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""ParaView.MPI.*: Sightline in `mpirun -np N pvbatch`, each rank tracing its own piece, IceT
+compositing colour and depth, against the 1-rank image.
+
+A driver run by /usr/bin/python3 (ctest). Modes:
+
+  ranks   runs mpi_scene.py on 1, 2 and 4 ranks (same scene, same explicit camera) and checks
+          - every rank's piece of the redistributed streamlines (points and cells) is smaller than
+            the whole and not empty, and the pieces' union is the whole: the same multiset of
+            points, the same cell count (streamlines kept whole), for spheres and tubes;
+          - Spheres, Tubes and TubesSplit (streamlines cut between ranks) on 2 and 4 ranks differ
+            from the 1-rank image in at most 0.1 % of pixels (by more than 24/255), printing the
+            fraction;
+          - Unsplit (the reader's output, all on rank 0; ranks 1-3 hold nothing) matches too: empty
+            ranks draw nothing and the collective render does not hang;
+          - no rank reports an error.
+  bad     runs mpi_scene.py --bad-rank 1 on 2 ranks: rank 1's radius array is NaN. Rank 1 reports
+          it (naming the radius), the run ends normally, and rank 0's spheres still render: the
+          image covers part, and only part, of the pixels the good radii cover.
+
+Every mpirun has a timeout (a hang fails the test). Environment (Testing/ParaView/CMakeLists.txt):
+SIGHTLINE_PVBATCH, SIGHTLINE_MPIRUN, SIGHTLINE_PLUGIN, SIGHTLINE_TEST_TEMP_DIR, PYTHONPATH,
+LD_LIBRARY_PATH, DISPLAY. SIGHTLINE_MPI_PICTURE=PATH also copies the 4-rank Ranks.png there.
+"""
+import glob
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+import zipfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCENE = os.path.join(HERE, "mpi_scene.py")
+BUNDLES = "/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip"
+PVBATCH = os.environ["SIGHTLINE_PVBATCH"]
+MPIRUN = os.environ["SIGHTLINE_MPIRUN"]
+PLUGIN = os.environ["SIGHTLINE_PLUGIN"]
+TEMP = os.path.join(os.environ.get("SIGHTLINE_TEST_TEMP_DIR", "/tmp"), "ParaViewMPI")
+TOLERANCE = 0.001  # fraction of pixels allowed to differ by more than 24/255
+RUN_TIMEOUT = 120
+BACKGROUND = np.round(np.array([0.1, 0.1, 0.15]) * 255).astype(int)
+
+
+def run(ranks, output, trk, *extra):
+    command = [MPIRUN, "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)]
+    for name in ("PYTHONPATH", "DISPLAY", "LD_LIBRARY_PATH"):
+        command += ["-x", name]
+    command += [PVBATCH, "--force-offscreen-rendering", SCENE, "--plugin", PLUGIN, "--trk", trk,
+                "--output", output, *extra]
+    print(" ".join(command), flush=True)
+    started = time.monotonic()
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            timeout=RUN_TIMEOUT, stdin=subprocess.DEVNULL)
+    print(result.stdout, flush=True)
+    print(f"({ranks} ranks: {time.monotonic() - started:.1f} s, exit {result.returncode})",
+          flush=True)
+    return result
+
+
+def errors(output):
+    return [line for line in output.splitlines() if "ERR|" in line or "ERROR:" in line]
+
+
+def traced(output):
+    """{scene: (distributed rendering, points rank 0's mapper traced)} from mpi_scene.py."""
+    found = re.findall(r"^(\w+): distributed rendering (\d), rank 0 traced (\d+) points", output,
+                       re.MULTILINE)
+    return {name: (int(distributed), int(points)) for name, distributed, points in found}
+
+
+def pieces(folder, name):
+    files = sorted(glob.glob(os.path.join(folder, f"{name}-piece-*.npz")),
+                   key=lambda f: int(f.rsplit("-", 1)[1].split(".")[0]))
+    return [np.load(f) for f in files]
+
+
+def covered(image):
+    return np.abs(image - BACKGROUND).max(axis=2) > 8
+
+
+def image(folder, name):
+    return np.load(os.path.join(folder, f"{name}.npy")).astype(int)
+
+
+def sorted_points(points):
+    return points[np.lexsort(points.T[::-1])]
+
+
+class Checks:
+    def __init__(self):
+        self.ok = True
+
+    def expect(self, condition, message):
+        if not condition:
+            print("FAIL:", message, flush=True)
+            self.ok = False
+        return condition
+
+
+def check_ranks(trk):
+    checks = Checks()
+    folders = {n: os.path.join(TEMP, f"np{n}") for n in (1, 2, 4)}
+    rank0 = {}
+    for n, folder in folders.items():
+        result = run(n, folder, trk)
+        if not checks.expect(result.returncode == 0, f"mpirun -np {n} pvbatch failed"):
+            return 1
+        checks.expect(not errors(result.stdout),
+                      f"{n} ranks reported errors:\n" + "\n".join(errors(result.stdout)))
+        rank0[n] = traced(result.stdout)
+        # Each rank traces its own piece: rank 0's mapper gets rank 0's piece, not the gathered
+        # whole (the view did not move the geometry to one process).
+        for name in ("Spheres", "TubesSplit", "Unsplit"):
+            recorded = len(pieces(folder, name)[0]["points"])
+            distributed, points = rank0[n].get(name, (None, None))
+            print(f"{name}, {n} ranks: distributed rendering {distributed}; rank 0 traced "
+                  f"{points} points, its piece has {recorded}")
+            checks.expect(points == recorded, f"{name}, {n} ranks: rank 0 did not trace its piece")
+            checks.expect(n == 1 or distributed == 1, f"{name}, {n} ranks: not distributed")
+
+    whole = pieces(folders[1], "Spheres")
+    checks.expect(len(whole) == 1, "one piece on one rank")
+    whole_points, whole_cells = whole[0]["points"], int(whole[0]["cells"])
+    print(f"whole: {len(whole_points)} points, {whole_cells} streamlines")
+    checks.expect(len(whole_points) > 0, "the 1-rank run read no points")
+    for n in (2, 4):
+        parts = pieces(folders[n], "Spheres")
+        counts = [(len(p["points"]), int(p["cells"])) for p in parts]
+        print(f"{n} ranks: (points, streamlines) per rank {counts}")
+        checks.expect(len(parts) == n, f"{n} ranks: {len(parts)} pieces recorded")
+        checks.expect(sorted(int(p["rank"]) for p in parts) == list(range(n)), "one piece per rank")
+        for p in parts:
+            checks.expect(0 < len(p["points"]) < len(whole_points),
+                          f"{n} ranks: rank {int(p['rank'])} holds {len(p['points'])} of "
+                          f"{len(whole_points)} points (neither none nor all)")
+        union = np.concatenate([p["points"] for p in parts])
+        checks.expect(union.shape == whole_points.shape and
+                      np.array_equal(sorted_points(union), sorted_points(whole_points)),
+                      f"{n} ranks: the pieces' points are not the whole's")
+        checks.expect(sum(int(p["cells"]) for p in parts) == whole_cells,
+                      f"{n} ranks: the streamlines are not each on one rank")
+        cut = pieces(folders[n], "TubesSplit")
+        print(f"{n} ranks, streamlines cut between ranks: points per rank "
+              f"{[len(p['points']) for p in cut]} (1 rank: "
+              f"{len(pieces(folders[1], 'TubesSplit')[0]['points'])})")
+        checks.expect(all(len(p["points"]) > 0 for p in cut), "a rank got none of the cut tubes")
+        unsplit = pieces(folders[n], "Unsplit")
+        checks.expect([len(p["points"]) for p in unsplit] == [len(whole_points)] + [0] * (n - 1),
+                      f"{n} ranks: Unsplit is not all on rank 0")
+
+    for name in ("Spheres", "Tubes", "TubesSplit", "Unsplit"):
+        reference = image(folders[1], name)
+        share = float(np.mean(covered(reference)))
+        checks.expect(share > 0.02, f"{name}: the 1-rank image is (almost) empty")
+        for n in (2, 4):
+            other = image(folders[n], name)
+            difference = np.abs(other - reference).max(axis=2)
+            fraction = float(np.mean(difference > 24))
+            print(f"{name}: {n} ranks vs 1 rank: {fraction:.4%} of pixels differ by more than "
+                  f"24/255 ({share:.1%} of pixels covered; {np.mean(difference > 0):.4%} differ "
+                  f"at all, by {difference.max()}/255 at most)")
+            checks.expect(fraction <= TOLERANCE, f"{name}: more than {TOLERANCE:.1%} differ")
+    ranks_image = image(folders[4], "Ranks")
+    colours = {tuple(c) for c in ranks_image[covered(ranks_image)].reshape(-1, 3) // 32}
+    checks.expect(len(colours) >= 4, "the 4-rank Ranks image shows fewer than 4 colours")
+    picture = os.environ.get("SIGHTLINE_MPI_PICTURE")
+    if picture:
+        shutil.copyfile(os.path.join(folders[4], "Ranks.png"), picture)
+        print("picture:", picture)
+    return 0 if checks.ok else 1
+
+
+def check_bad_rank(trk):
+    checks = Checks()
+    folder = os.path.join(TEMP, "bad")
+    result = run(2, folder, trk, "--bad-rank", "1")
+    if not checks.expect(result.returncode == 0, "mpirun -np 2 pvbatch failed"):
+        return 1
+    reports = [line for line in result.stdout.splitlines()
+               if "pvbatch.1" in line and "radius nan" in line]
+    print("rank 1's report:", reports)
+    checks.expect(reports, "rank 1 did not report its NaN radii")
+    checks.expect(not any("pvbatch.0" in line and "radius" in line
+                          for line in result.stdout.splitlines()), "rank 0 reported radii")
+    bad, good = covered(image(folder, "BadRadius")), covered(image(folder, "GoodRadius"))
+    print(f"covered: {bad.mean():.2%} with rank 1's radii NaN, {good.mean():.2%} with good radii")
+    parts = pieces(folder, "BadRadius")
+    share = len(parts[0]["points"]) / sum(len(p["points"]) for p in parts)
+    print(f"rank 0 holds {share:.0%} of the points")
+    checks.expect(bad.mean() > 0.1 * good.mean(), "rank 0's spheres did not render")
+    checks.expect(bad.mean() < 0.9 * good.mean(), "rank 1's NaN-radius spheres were drawn")
+    checks.expect(float(np.mean(bad & ~good)) < 0.0005, "pixels covered outside the good image")
+    return 0 if checks.ok else 1
+
+
+def main():
+    mode = sys.argv[1]
+    shutil.rmtree(os.path.join(TEMP, mode), ignore_errors=True)
+    os.makedirs(TEMP, exist_ok=True)
+    with zipfile.ZipFile(BUNDLES) as archive:
+        trk = archive.extract("sub_1/CST_R.trk", os.path.join(TEMP, "data"))
+    if mode == "ranks":
+        for n in (1, 2, 4):
+            shutil.rmtree(os.path.join(TEMP, f"np{n}"), ignore_errors=True)
+        return check_ranks(trk)
+    return check_bad_rank(trk)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

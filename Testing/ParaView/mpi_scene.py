@@ -2,10 +2,10 @@
 """The scenes of ParaView.MPI, run by `mpirun -np N pvbatch` (test_mpi.py starts it for N = 1, 2, 4).
 
 pvbatch runs this script on rank 0; every rank holds a piece of each filter's output and renders
-it, and IceT composites the ranks' colour and depth into rank 0's image. The TrackVis reader is
-not piece-aware (rank 0 reads the whole file, the others get nothing), so RedistributeDataSet
-spreads the streamlines over the ranks, each streamline kept whole on one rank ("Assign to one
-region"), as an unstructured grid of poly-line cells.
+it, and IceT composites the ranks' colour and depth into rank 0's image. The TrackVis reader
+gives each rank its own run of streamlines (file order); RedistributeDataSet then regroups them
+by region, each streamline kept whole on one rank ("Assign to one region"), as an unstructured
+grid of poly-line cells.
 
 A ProgrammableFilter after each data source records every rank's own piece (its points, cell
 count and rank) as NAME-piece-RANK.npz in --output, so the driver checks what each rank held.
@@ -16,8 +16,9 @@ rank 0 and star-imports numpy there, which replaced functions named save() and r
 
 Scenes: Spheres (the streamlines' points, redistributed), Tubes (the streamlines, opaque,
 redistributed), TubesSplit (the same with RedistributeDataSet cutting streamlines at the regions'
-boundaries), Ranks (the tubes coloured by rank: vtkProcessId through a LUT), Unsplit (the
-reader's output as it is: all on rank 0, the other ranks empty). With --bad-rank R (and
+boundaries), Ranks (the tubes coloured by rank: vtkProcessId through a LUT), ReaderPieces (the
+reader's own pieces as they are), EmptyRanks (an SWC neuron: the SWC reader puts the whole file
+on rank 0, the other ranks hold nothing). With --bad-rank R (and
 --scene-set bad): the redistributed points with a radius array that is NaN on rank R only.
 """
 import argparse
@@ -103,13 +104,14 @@ def mpi_drawn_points(rep):
     return data.GetNumberOfPoints()
 
 
-def mpi_save_view(view, folder, name, rep=None):
+def mpi_save_view(view, folder, name, rep=None, camera=None):
     # paraview.simple resets the camera to the bounds on a view's first Render(): set the
     # camera after it, so that every rank count renders from the same one.
     Render(view)
-    view.CameraFocalPoint = FOCAL_POINT
-    view.CameraPosition = POSITION
-    view.CameraViewUp = VIEW_UP
+    focal_point, position, view_up = camera or (FOCAL_POINT, POSITION, VIEW_UP)
+    view.CameraFocalPoint = focal_point
+    view.CameraPosition = position
+    view.CameraViewUp = view_up
     view.CameraViewAngle = 30
     view.CameraParallelProjection = 0
     Render(view)
@@ -135,6 +137,7 @@ def mpi_main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
     parser.add_argument("--trk", required=True)
+    parser.add_argument("--swc", required=True)
     parser.add_argument("--output", required=True)
     parser.add_argument("--bad-rank", type=int, default=None)
     args = parser.parse_args()
@@ -197,12 +200,21 @@ def mpi_main():
     mpi_save_view(view, args.output, "Ranks")
     Hide(ranks, view)
 
-    whole = mpi_record(reader, args.output, "Unsplit")
-    rep = Show(whole, view)
+    own = mpi_record(reader, args.output, "ReaderPieces")
+    rep = Show(own, view)
     rep.Representation = "Sightline Spheres"
     rep.ColorArrayName = ["POINTS", ""]
     rep.SphereRadius = 0.8
-    mpi_save_view(view, args.output, "Unsplit", rep)
+    mpi_save_view(view, args.output, "ReaderPieces", rep)
+    Hide(own, view)
+
+    neuron = mpi_record(OpenDataFile(args.swc), args.output, "EmptyRanks")
+    rep = Show(neuron, view)
+    rep.Representation = "Sightline Spheres"
+    rep.ColorArrayName = ["POINTS", ""]
+    rep.SphereRadiusArray = ["POINTS", "Radius"]
+    mpi_save_view(view, args.output, "EmptyRanks", rep,
+                  camera=([0.0, 0.0, 0.0], [0.0, 0.0, 90.0], [0.0, 1.0, 0.0]))
     Delete(view)  # (left to exit, the view's window made Mesa report GLXBadContext)
     return 0
 

@@ -11,8 +11,10 @@ A driver run by /usr/bin/python3 (ctest). Modes:
           - Spheres, Tubes and TubesSplit (streamlines cut between ranks) on 2 and 4 ranks differ
             from the 1-rank image in at most 0.1 % of pixels (by more than 24/255), printing the
             fraction;
-          - Unsplit (the reader's output, all on rank 0; ranks 1-3 hold nothing) matches too: empty
-            ranks draw nothing and the collective render does not hang;
+          - ReaderPieces (the TrackVis reader's own pieces): every rank holds a run of whole
+            streamlines, none empty, together the whole; the image matches too;
+          - EmptyRanks (an SWC neuron, all on rank 0 as the SWC reader gives it; ranks 1-3 hold
+            nothing) matches too: empty ranks draw nothing and the collective render does not hang;
           - no rank reports an error.
   bad     runs mpi_scene.py --bad-rank 1 on 2 ranks: rank 1's radius array is NaN. Rank 1 reports
           it (naming the radius), the run ends normally, and rank 0's spheres still render: the
@@ -36,6 +38,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "mpi_scene.py")
 BUNDLES = "/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip"
+SWC = os.path.join(HERE, "..", "Data", "SWC", "neuron_three_point_soma.swc")
 PVBATCH = os.environ["SIGHTLINE_PVBATCH"]
 MPIRUN = os.environ["SIGHTLINE_MPIRUN"]
 PLUGIN = os.environ["SIGHTLINE_PLUGIN"]
@@ -50,7 +53,7 @@ def run(ranks, output, trk, *extra):
     for name in ("PYTHONPATH", "DISPLAY", "LD_LIBRARY_PATH"):
         command += ["-x", name]
     command += [PVBATCH, "--force-offscreen-rendering", SCENE, "--plugin", PLUGIN, "--trk", trk,
-                "--output", output, *extra]
+                "--swc", SWC, "--output", output, *extra]
     print(" ".join(command), flush=True)
     started = time.monotonic()
     result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
@@ -114,7 +117,7 @@ def check_ranks(trk):
         rank0[n] = traced(result.stdout)
         # Each rank traces its own piece: rank 0's mapper gets rank 0's piece, not the gathered
         # whole (the view did not move the geometry to one process).
-        for name in ("Spheres", "TubesSplit", "Unsplit"):
+        for name in ("Spheres", "TubesSplit", "ReaderPieces", "EmptyRanks"):
             recorded = len(pieces(folder, name)[0]["points"])
             distributed, points = rank0[n].get(name, (None, None))
             print(f"{name}, {n} ranks: distributed rendering {distributed}; rank 0 traced "
@@ -148,11 +151,20 @@ def check_ranks(trk):
               f"{[len(p['points']) for p in cut]} (1 rank: "
               f"{len(pieces(folders[1], 'TubesSplit')[0]['points'])})")
         checks.expect(all(len(p["points"]) > 0 for p in cut), "a rank got none of the cut tubes")
-        unsplit = pieces(folders[n], "Unsplit")
-        checks.expect([len(p["points"]) for p in unsplit] == [len(whole_points)] + [0] * (n - 1),
-                      f"{n} ranks: Unsplit is not all on rank 0")
+        own = sorted(pieces(folders[n], "ReaderPieces"), key=lambda p: int(p["rank"]))
+        print(f"{n} ranks, the reader's own pieces: (points, streamlines) per rank "
+              f"{[(len(p['points']), int(p['cells'])) for p in own]}")
+        checks.expect(len(own) == n and all(len(p["points"]) > 0 for p in own),
+                      f"{n} ranks: a rank got none of the reader's streamlines")
+        checks.expect(sum(int(p["cells"]) for p in own) == whole_cells and
+                      np.array_equal(np.concatenate([p["points"] for p in own]), whole_points),
+                      f"{n} ranks: the reader's pieces in rank order are not the whole file")
+        neuron = sorted(pieces(folders[n], "EmptyRanks"), key=lambda p: int(p["rank"]))
+        whole_neuron = len(pieces(folders[1], "EmptyRanks")[0]["points"])
+        checks.expect([len(p["points"]) for p in neuron] == [whole_neuron] + [0] * (n - 1),
+                      f"{n} ranks: the SWC neuron is not all on rank 0")
 
-    for name in ("Spheres", "Tubes", "TubesSplit", "Unsplit"):
+    for name in ("Spheres", "Tubes", "TubesSplit", "ReaderPieces", "EmptyRanks"):
         reference = image(folders[1], name)
         share = float(np.mean(covered(reference)))
         checks.expect(share > 0.02, f"{name}: the 1-rank image is (almost) empty")

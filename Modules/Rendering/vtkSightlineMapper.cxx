@@ -170,6 +170,20 @@ vtkIdType vtkSightlineMapper::GetNumberOfPrimitives()
 }
 
 //------------------------------------------------------------------------------
+vtkTypeInt64 vtkSightlineMapper::GetGeometryMemoryBytes()
+{
+  const auto& geometry = this->Internals->Geometry;
+  return geometry ? static_cast<vtkTypeInt64>(geometry->memoryBytes()) : 0;
+}
+
+//------------------------------------------------------------------------------
+vtkTypeInt64 vtkSightlineMapper::GetBVHMemoryBytes()
+{
+  const auto& scene = this->Internals->Scene;
+  return scene ? static_cast<vtkTypeInt64>(scene->bvhBytes()) : 0;
+}
+
+//------------------------------------------------------------------------------
 bool vtkSightlineMapper::IsTranslucentFor(vtkActor* actor)
 {
   return actor && actor->GetProperty()->GetOpacity() < 1.0 && this->SupportsTranslucency();

@@ -205,6 +205,17 @@ public:
   vtkGetMacro(LastGeometrySeconds, double);
   vtkGetMacro(LastBuildSeconds, double);
 
+  ///@{
+  /**
+   * Bytes of the last geometry built from the input (the kernel's Geometry::memoryBytes: for
+   * tubes 20 bytes per link with the default layout) and of its BVH (Embree's allocations
+   * during the build, measured through its memory monitor); 0 when nothing is drawn. Their
+   * sum is what this mapper holds for ray tracing besides its input (per MPI rank: its piece).
+   */
+  vtkTypeInt64 GetGeometryMemoryBytes();
+  vtkTypeInt64 GetBVHMemoryBytes();
+  ///@}
+
 #ifndef __VTK_WRAP__
   /**
    * GL-free path: ray-trace the primitives of `actor` (a vtkActor) as `camera` sees them in an

@@ -88,6 +88,11 @@ class TrackReaders(unittest.TestCase):
         batch.Update()
         rgba = vtk_to_numpy(batch.GetOutput().GetPointData().GetScalars())
         self.assertEqual(tubes.GetNumberOfLinks(), 12)
+        # What the mapper holds for tracing: 20 bytes per link (a point, a radius, a
+        # predecessor) and more for bookkeeping, plus a BVH Embree allocated.
+        self.assertGreaterEqual(tubes.GetGeometryMemoryBytes(), 20 * 12)
+        self.assertLess(tubes.GetGeometryMemoryBytes(), 64 * 12)
+        self.assertGreater(tubes.GetBVHMemoryBytes(), 0)
         covered = (rgba[:, :3].sum(axis=1) > 0).sum() # the background is black
         self.assertGreater(covered, 1500)
         self.assertLess(covered, 0.5 * len(rgba))

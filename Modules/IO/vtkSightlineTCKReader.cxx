@@ -287,6 +287,10 @@ int vtkSightlineTCKReader::RequestData(
     vtkWarningMacro(<< name << ": the header's count is " << Quote(count) << " but "
                     << streamline << " streamlines were read.");
   }
+  // Insertion grows the arrays by doubling: give back the unused capacity (up to half of a
+  // piece's points and connectivity, kept for as long as the output lives).
+  points->Squeeze();
+  lines->Squeeze();
   output->SetPoints(points);
   output->SetLines(lines);
   return 1;

@@ -467,6 +467,10 @@ int vtkSightlineTrackVisReader::RequestData(
     vtkWarningMacro(<< name << ": the header's n_count is " << expected << " but "
                     << streamline << " streamlines were read.");
   }
+  // Insertion grows the arrays by doubling: give back the unused capacity (up to half of a
+  // piece's points and connectivity, kept for as long as the output lives).
+  points->Squeeze();
+  lines->Squeeze();
   output->SetPoints(points);
   output->SetLines(lines);
   for (auto& array : scalarArrays)

@@ -23,7 +23,9 @@ is not the slowest rank's tracing: IceT's image exchange and blending, ParaView'
 overhead, waiting). Memory: geometry + BVH bytes from the mapper, the piece's VTK data
 (GetActualMemorySize), and peak RSS per rank process (the 'loaded' value, before any data, is
 the constant ParaView itself costs). Timings are only meaningful while N does not exceed the
-cores; the driver prints the cores it sees.
+cores; the driver prints the cores it sees. Open MPI 4.1 binds each rank to one core when
+N <= 2 (its default) and leaves more ranks unbound: the 1- and 2-rank runs trace on one core a
+rank.
 
 Environment (optional): SIGHTLINE_PVBATCH, SIGHTLINE_MPIRUN, SIGHTLINE_PLUGIN, PYTHONPATH,
 LD_LIBRARY_PATH; the defaults are those of build-paraview/ (scripts/build.sh --paraview).

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SightlineReaderInput.h"
 
+#include "vtkInformation.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -216,5 +219,21 @@ std::string InputName(const char* fileName, bool fromString)
     return "the input string";
   }
   return "'" + Quote(fileName ? fileName : "", 4096) + "'";
+}
+void RequestedPiece(vtkInformation* outInfo, int& piece, int& pieces)
+{
+  piece = 0;
+  pieces = 1;
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
+  {
+    piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+    pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+  }
+  if (pieces < 1 || piece < 0 || piece >= pieces)
+  {
+    piece = 0;
+    pieces = 1;
+  }
 }
 } // namespace sightline_io

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+class vtkInformation;
+
 namespace sightline_io
 {
 /// The bytes a reader parses: the whole file `fileName`, or `inputString` when `fromString`.
@@ -48,6 +50,10 @@ std::string Quote(const std::string& text, std::size_t maxBytes = 160);
 
 /// How messages name the input: 'file name' (quoted as above), or "the input string".
 std::string InputName(const char* fileName, bool fromString);
+
+/// The piece a reader's output request asks for (UPDATE_PIECE_NUMBER of
+/// UPDATE_NUMBER_OF_PIECES), or piece 0 of 1 when the request has none or an invalid one.
+void RequestedPiece(vtkInformation* outInfo, int& piece, int& pieces);
 } // namespace sightline_io
 
 #endif

@@ -8,7 +8,6 @@
 #include "vtkObjectFactory.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "SightlineMRtrixHeader.h"
 #include "SightlineReaderInput.h"
@@ -69,17 +68,7 @@ int vtkSightlineTCKReader::RequestData(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkPolyData* output = vtkPolyData::GetData(outInfo);
   int piece = 0, pieces = 1;
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
-    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
-  {
-    piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-    pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
-  }
-  if (pieces < 1 || piece < 0 || piece >= pieces)
-  {
-    piece = 0;
-    pieces = 1;
-  }
+  sightline_io::RequestedPiece(outInfo, piece, pieces);
   InputFile input;
   std::string error;
   if (!input.Open(this->FileName, this->ReadFromInputString, this->InputString, error))

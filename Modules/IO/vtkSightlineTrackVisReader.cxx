@@ -13,7 +13,6 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "SightlineReaderInput.h"
 
@@ -124,17 +123,7 @@ int vtkSightlineTrackVisReader::RequestData(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkPolyData* output = vtkPolyData::GetData(outInfo);
   int piece = 0, pieces = 1;
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
-    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
-  {
-    piece = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
-    pieces = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
-  }
-  if (pieces < 1 || piece < 0 || piece >= pieces)
-  {
-    piece = 0;
-    pieces = 1;
-  }
+  sightline_io::RequestedPiece(outInfo, piece, pieces);
   this->VoxmmToRAS->Identity();
   sightline_io::InputFile input;
   std::string error;

@@ -16,10 +16,11 @@ import os
 import sys
 
 from paraview import servermanager
-from paraview.simple import (ColorBy, Connect, CreateView, Delete, GetColorTransferFunction,
-                             LoadPlugin, OpenDataFile, Render, SaveScreenshot, SetActiveView, Show)
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOImage import vtkPNGReader
+from paraview.simple import (ColorBy, Connect, Delete, LoadPlugin, OpenDataFile, Render,
+                             SaveScreenshot, Show)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import paraview_test_support as support  # noqa: E402
 
 SIZE = (400, 300)
 
@@ -39,14 +40,7 @@ def server_plugins():
 
 
 def make_view():
-    view = CreateView("RenderView")
-    view.ViewSize = list(SIZE)
-    view.OrientationAxesVisibility = 0
-    view.Background = [0.1, 0.1, 0.15]
-    view.UseColorPaletteForBackground = 0
-    view.UseFXAA = 0
-    SetActiveView(view)
-    return view
+    return support.make_view(SIZE)
 
 
 def set_camera(view, centre, distance, direction, up):
@@ -78,15 +72,10 @@ def save_both_ways(view, output, name, remote, local_is_remote=False):
 def save(view, output, name):
     path = os.path.join(output, f"{name}.png")
     SaveScreenshot(path, view, ImageResolution=list(SIZE), TransparentBackground=0)
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    w, h, _ = image.GetDimensions()
-    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+    pixels = support.read_png(path)
     import numpy as np
     np.save(os.path.join(output, f"{name}.npy"), pixels)
-    print(f"{name}: {path} ({w}x{h})")
+    print(f"{name}: {path} ({pixels.shape[1]}x{pixels.shape[0]})")
 
 
 def main():
@@ -134,19 +123,8 @@ def main():
     Delete(view)
 
     # PREM through the spherical field source, traced as a spherical volume.
-    source = SightlineSphericalField()  # noqa: F821  (added by LoadPlugin)
-    source.Field = "PREM Density"
-    source.RadialResolution = 24
-    source.PolarResolution = 24
-    source.AzimuthalResolution = 48
-    source.AzimuthRange = [0.0, 4.71238898038469]  # a wedge cut out, to see inside
     view = make_view()
-    rep = Show(source, view)
-    rep.Representation = "Sightline Spherical Volume"
-    ColorBy(rep, ("CELLS", "density"))
-    GetColorTransferFunction("density").ApplyPreset("Inferno (matplotlib)", True)
-    rep.RescaleTransferFunctionToDataRange(True)
-    rep.ScalarOpacityUnitDistance = 0.05
+    source, rep = support.show_prem(view, SightlineSphericalField)  # noqa: F821  (LoadPlugin)
     Render(view)
     # The grid's coordinates are (r, theta, phi): its bounds are not Cartesian; the sphere is
     # centred at the origin with the largest r as its radius.

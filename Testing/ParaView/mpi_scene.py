@@ -23,12 +23,14 @@ on rank 0, the other ranks hold nothing). With --bad-rank R (and
 """
 import argparse
 import os
+import sys
 
-from paraview.simple import (CreateView, ColorBy, Delete, GetColorTransferFunction, Hide, LoadPlugin,
+from paraview.simple import (ColorBy, Delete, GetColorTransferFunction, Hide, LoadPlugin,
                              OpenDataFile, ProcessIdScalars, ProgrammableFilter,
-                             RedistributeDataSet, Render, SaveScreenshot, SetActiveView, Show)
-from vtkmodules.vtkIOImage import vtkPNGReader
-from vtkmodules.util.numpy_support import vtk_to_numpy
+                             RedistributeDataSet, Render, SaveScreenshot, Show)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import paraview_test_support as support  # noqa: E402
 import numpy as np
 import sightline  # noqa: F401  (wraps the representations' mappers for mpi_drawn_points)
 
@@ -78,14 +80,7 @@ def mpi_record(source, folder, name, extra=""):
 
 
 def mpi_make_view():
-    view = CreateView("RenderView")
-    view.ViewSize = list(SIZE)
-    view.OrientationAxesVisibility = 0
-    view.Background = [0.1, 0.1, 0.15]
-    view.UseColorPaletteForBackground = 0
-    view.UseFXAA = 0
-    SetActiveView(view)
-    return view
+    return support.make_view(SIZE)
 
 
 def mpi_drawn_points(rep):
@@ -123,12 +118,7 @@ def mpi_save_view(view, folder, name, rep=None, camera=None):
               f"{mpi_drawn_points(rep)} points", flush=True)
     path = os.path.join(folder, f"{name}.png")
     SaveScreenshot(path, view, ImageResolution=list(SIZE), TransparentBackground=0)
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    w, h, _ = image.GetDimensions()
-    pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+    pixels = support.read_png(path)
     np.save(os.path.join(folder, f"{name}.npy"), pixels)
     print(f"{name}: {path}", flush=True)
 

@@ -15,10 +15,10 @@ import unittest
 import zipfile
 
 import numpy as np
-from paraview.simple import (Calculator, ClearSelection, ColorBy, CreateView, Delete, GetColorTransferFunction,
+from paraview.simple import (Calculator, ClearSelection, ColorBy, Delete, GetColorTransferFunction,
                              GetOpacityTransferFunction, GroupDatasets, LoadPlugin, OpenDataFile,
                              PVTrivialProducer, Render, SelectSurfaceCells, SelectSurfacePoints,
-                             SetActiveSource, SetActiveView, Show, Threshold, Transform)
+                             SetActiveSource, Show, Threshold, Transform)
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkIdList, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData
@@ -40,6 +40,8 @@ BASELINE_TOLERANCE = 0.005
 
 LoadPlugin(PLUGIN, ns=globals())
 import sightline  # noqa: E402  (after ParaView's vtkmodules are on the path)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import paraview_test_support as support  # noqa: E402
 
 
 def view_image(view):
@@ -54,14 +56,8 @@ def view_image(view):
 
 
 def make_view():
-    view = CreateView("RenderView")
-    view.ViewSize = list(SIZE)
-    view.OrientationAxesVisibility = 0
-    view.Background = [0.1, 0.1, 0.15]
-    view.UseColorPaletteForBackground = 0
+    view = support.make_view(SIZE)
     view.EnableRenderOnInteraction = 0
-    view.UseFXAA = 0  # FXAA smooths thin glyph lobes; the reference window has none
-    SetActiveView(view)
     return view
 
 
@@ -95,16 +91,6 @@ def reference_image(view, prop):
     pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].copy()
     del window  # (Finalize here made Mesa report GLXBadContext at exit)
     return pixels
-
-
-def read_png(path):
-    from vtkmodules.vtkIOImage import vtkPNGReader
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    w, h, _ = image.GetDimensions()
-    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3].copy()
 
 
 def save_png(pixels, name, folder=TEMP):
@@ -175,7 +161,7 @@ class ParaViewPluginTest(unittest.TestCase):
         if os.environ.get("SIGHTLINE_UPDATE_BASELINES") == "1":
             save_png(pv_pixels, f"{name}.png", BASELINES)
         self.assertTrue(os.path.exists(baseline), f"no baseline {baseline}")
-        stored = read_png(baseline)
+        stored = support.read_png(baseline)
         self.assertEqual(stored.shape, pv_pixels.shape, name)
         drift = differing_fraction(pv_pixels, stored)
         print(f"{name}: {drift:.3%} differ from the baseline")
@@ -452,21 +438,10 @@ class ParaViewPluginTest(unittest.TestCase):
         Delete(view)
 
     def test_prem_as_a_spherical_volume(self):
-        source = SightlineSphericalField()  # noqa: F821  (added by LoadPlugin)
-        source.Field = "PREM Density"
-        source.RadialResolution = 24
-        source.PolarResolution = 24
-        source.AzimuthalResolution = 48
-        source.AzimuthRange = [0.0, 4.71238898038469]  # a wedge cut out, to see inside
         view = make_view()
-        rep = Show(source, view)
-        rep.Representation = "Sightline Spherical Volume"
-        ColorBy(rep, ("CELLS", "density"))
+        source, rep = support.show_prem(view, SightlineSphericalField)  # noqa: F821  (LoadPlugin)
         lut = GetColorTransferFunction("density")
-        lut.ApplyPreset("Inferno (matplotlib)", True)
-        rep.RescaleTransferFunctionToDataRange(True)
         opacity = GetOpacityTransferFunction("density")
-        rep.ScalarOpacityUnitDistance = 0.05
         view.CameraPosition = [3, -2, 2]
         view.CameraFocalPoint = [0, 0, 0]
         view.CameraViewUp = [0, 0, 1]

@@ -247,7 +247,7 @@ std::vector<vec3> gridOfCentres(int nx, int ny, int nz, float spacing)
 
 FarScene spheres()
 {
-  FarScene s{ "spheres", 1.0 };
+  FarScene s{ "spheres", 1.0, {} };
   s.build = [](const dvec3& origin, Positions positions) -> std::shared_ptr<Geometry>
   {
     // Overlapping neighbours (spacing below the diameter) give intersection curves too.
@@ -264,7 +264,7 @@ FarScene spheres()
 /// The grid: 2 x 2 glyphs of order `order` with radius 1.1, fibre-like lobes.
 FarScene shGlyphs(int order, SHIntersectionMethod method, const std::string& name)
 {
-  FarScene s{ name, 1.1 };
+  FarScene s{ name, 1.1, {} };
   s.build = [order, method](const dvec3& origin, Positions positions) -> std::shared_ptr<Geometry>
   {
     const std::vector<vec3> local = gridOfCentres(2, 2, 1, 2.4f);
@@ -292,7 +292,7 @@ FarScene shGlyphs(int order, SHIntersectionMethod method, const std::string& nam
 
 FarScene ellipsoids()
 {
-  FarScene s{ "ellipsoids", 1.0 };
+  FarScene s{ "ellipsoids", 1.0, {} };
   s.build = [](const dvec3& origin, Positions positions) -> std::shared_ptr<Geometry>
   {
     const std::vector<vec3> local = gridOfCentres(2, 2, 1, 2.2f);
@@ -312,7 +312,7 @@ FarScene ellipsoids()
 /// A branching tube: radii 0.25 to 0.5 (size 0.4), links longer and shorter than their radii.
 FarScene tubes(FarScene::Drawn drawn, const std::string& name)
 {
-  FarScene s{ name, 0.4 };
+  FarScene s{ name, 0.4, {} };
   s.drawn = drawn;
   s.build = [](const dvec3& origin, Positions positions) -> std::shared_ptr<Geometry>
   {

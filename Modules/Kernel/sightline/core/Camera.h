@@ -65,4 +65,38 @@ private:
   dvec3 NearBase, NearDx, NearDy;
   dvec3 FarBase, FarDx, FarDy;
 };
+
+// Ray generation and window depth run once per pixel: inline, so the renderers' loops do not
+// call across libraries for them.
+inline DoubleRay Camera::doublePrimaryRay(double px, double py) const
+{
+  const dvec3 nearPoint = NearBase + px * NearDx + py * NearDy;
+  const dvec3 farPoint = FarBase + px * FarDx + py * FarDy;
+  const dvec3 span = farPoint - nearPoint;
+  const double length = glm::length(span);
+  // One division per ray, not three (the direction is unit to within an ulp either way).
+  return DoubleRay(nearPoint, span * (1.0 / length), 0.0, length);
+}
+
+inline Ray Camera::primaryRay(double px, double py) const
+{
+  const DoubleRay exact = doublePrimaryRay(px, py);
+  Ray ray;
+  ray.origin = vec3(exact.origin);
+  ray.direction = vec3(exact.direction);
+  ray.tnear = 0.0f;
+  ray.tfar = float(exact.tfar);
+  return ray;
+}
+
+inline double Camera::windowDepth(const dvec3& worldPoint) const
+{
+  // Only clip z and w are needed: the same products and sums as the full projection gives
+  // them, so the value is identical, at half the multiplications and one division, not three
+  // (this runs once per pixel).
+  const dmat4& m = WorldToClip;
+  const double z = m[0][2] * worldPoint.x + m[1][2] * worldPoint.y + m[2][2] * worldPoint.z + m[3][2];
+  const double w = m[0][3] * worldPoint.x + m[1][3] * worldPoint.y + m[2][3] * worldPoint.z + m[3][3];
+  return 0.5 * (z / w) + 0.5;
+}
 } // namespace sightline

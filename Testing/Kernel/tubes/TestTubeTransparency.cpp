@@ -7,11 +7,14 @@
 #include "sightline/core/Camera.h"
 #include "sightline/core/EmbreeScene.h"
 #include "sightline/core/Renderer.h"
+#include "sightline/spheres/SphereSet.h"
 #include "sightline/tubes/TubeSet.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -329,6 +332,93 @@ TEST(TubeTransparency, DepthLimitStopsRays)
   std::vector<float> wrong(10, 0.5f);
   options.depthLimit = &wrong;
   EXPECT_THROW(Renderer().render(empty, camera, lighting, fb, options), std::invalid_argument);
+}
+
+TEST(TubeTransparency, RegionImagesBlendedInVisibilityOrderGiveTheWholeImage)
+{
+  // Sort-last compositing across MPI ranks: each rank draws its region of a kd-tree partition
+  // (RenderOptions::regionLower/Upper) and the regions' images are blended front to back. Four
+  // quadrants cut through a translucent tree and an opaque sphere; their blend must equal the
+  // unclipped image, from several directions, one of them with a column of rays lying in a cut
+  // plane (odd width, camera in the plane x = 0.2).
+  const Tree tree = randomTree(7);
+  auto tubes = std::make_shared<TubeSet>(tree.points, tree.radii, tree.predecessors);
+  tubes->material.opacity = 0.4f;
+  auto sphere = std::make_shared<SphereSet>(std::vector<vec3>{ vec3(0.3f, -0.2f, -0.4f) },
+    std::vector<float>{ 0.7f });
+  EmbreeScene translucent, opaque;
+  translucent.add(tubes);
+  translucent.commit();
+  opaque.add(sphere);
+  opaque.commit();
+  const double cutX = 0.2, cutY = -0.3;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::array<dvec3, 2>> regions;
+  for (int i = 0; i < 4; ++i)
+    regions.push_back({ dvec3(i & 1 ? cutX : -inf, i & 2 ? cutY : -inf, -inf),
+      dvec3(i & 1 ? inf : cutX, i & 2 ? inf : cutY, inf) });
+
+  const std::array<dvec3, 3> positions{ dvec3(2.0, 3.0, 9.0), dvec3(-7.0, -1.0, -4.0),
+    dvec3(cutX, 0.5, 10.0) };
+  for (const dvec3& position : positions)
+  {
+    CameraParameters parameters;
+    parameters.position = position;
+    parameters.focalPoint = dvec3(position.x == cutX ? cutX : 0.0, 0.5, 0.0);
+    parameters.viewAngle = 40.0;
+    const Camera camera = Camera::fromParameters(parameters, 65, 64);
+    const Lighting lighting = Lighting::headlight(vec3(glm::normalize(parameters.focalPoint - position)));
+    RenderOptions options;
+    options.translucent.scene = &translucent;
+    Framebuffer whole;
+    Renderer().render(opaque, camera, lighting, whole, options);
+
+    std::vector<Framebuffer> parts(regions.size());
+    for (std::size_t r = 0; r < regions.size(); ++r)
+    {
+      options.regionLower = regions[r][0];
+      options.regionUpper = regions[r][1];
+      Renderer().render(opaque, camera, lighting, parts[r], options);
+    }
+    int covered = 0, split = 0;
+    for (int py = 0; py < camera.height(); ++py)
+      for (int px = 0; px < camera.width(); ++px)
+      {
+        // Convex regions: the ray meets them in the order of its entry into each.
+        const DoubleRay ray = camera.doublePrimaryRay(px + 0.5, py + 0.5);
+        std::vector<std::pair<double, std::size_t>> order;
+        for (std::size_t r = 0; r < regions.size(); ++r)
+        {
+          double t0 = ray.tnear, t1 = ray.tfar;
+          if (clipToBox(ray.origin, ray.direction, regions[r][0], regions[r][1], t0, t1))
+            order.emplace_back(t0, r);
+        }
+        std::sort(order.begin(), order.end());
+        const std::size_t i = whole.index(px, py);
+        vec3 premultiplied(0.0f);
+        float alpha = 0.0f;
+        int contributing = 0;
+        for (const auto& entry : order)
+        {
+          const vec4 c = parts[entry.second].Color[i];
+          premultiplied += (1.0f - alpha) * c.a * vec3(c);
+          alpha += (1.0f - alpha) * c.a;
+          contributing += c.a > 0.0f;
+        }
+        const vec4 expected = whole.Color[i];
+        ASSERT_NEAR(alpha, expected.a, 1e-5f) << "pixel " << px << ", " << py;
+        if (expected.a == 0.0f)
+          continue;
+        ++covered;
+        split += contributing > 1;
+        EXPECT_NEAR(glm::length(premultiplied - expected.a * vec3(expected)), 0.0f, 1e-4f)
+          << "pixel " << px << ", " << py;
+      }
+    EXPECT_GT(covered, 400);
+    std::printf("camera at (%g, %g, %g): %d covered pixels, %d with layers in several regions\n",
+      position.x, position.y, position.z, covered, split);
+    EXPECT_GT(split, 10); // pixels whose layers lie in more than one region
+  }
 }
 
 TEST(TubeSet, MemoryOfTheFourLayouts)

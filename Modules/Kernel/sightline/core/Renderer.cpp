@@ -35,6 +35,8 @@ struct FrameContext
   /// scene's bounds (scene coordinates).
   double translucentSegment;
   Box3 translucentBounds;
+  /// RenderOptions' region is not all of space: primary rays are clipped to it.
+  bool regionClipped;
 };
 
 constexpr int kMaxShadowedLights = 16;
@@ -164,23 +166,8 @@ double compositeTranslucent(const FrameContext& frame, const DoubleRay& ray, vec
   bool saturated = false;
   // Segments start where the ray enters the scene's box, not at the near plane.
   double segmentStart = ray.tnear, rayEnd = ray.tfar;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    const double o = ray.origin[axis], d = ray.direction[axis];
-    const double lo = frame.translucentBounds.lower[axis], hi = frame.translucentBounds.upper[axis];
-    if (d == 0.0)
-    {
-      if (o < lo || o > hi)
-        return kInfinity;
-      continue;
-    }
-    double t0 = (lo - o) / d, t1 = (hi - o) / d;
-    if (t0 > t1)
-      std::swap(t0, t1);
-    segmentStart = std::max(segmentStart, t0);
-    rayEnd = std::min(rayEnd, t1);
-  }
-  if (!(segmentStart <= rayEnd))
+  if (!clipToBox(ray.origin, ray.direction, dvec3(frame.translucentBounds.lower),
+        dvec3(frame.translucentBounds.upper), segmentStart, rayEnd))
     return kInfinity;
   // Back off by the merge gap so a surface right at the box's face is not lost.
   segmentStart = std::max(ray.tnear, segmentStart - frame.unionGap);
@@ -244,6 +231,15 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
     const float limit = (*frame.options.depthLimit)[i];
     if (limit < 1.0f)
       ray.tfar = frame.camera.primaryRayParameterAt(x + 0.5, y + 0.5, limit);
+  }
+  if (frame.regionClipped)
+  {
+    // The region is in world coordinates; the world ray has the same parameter t.
+    const dvec3 worldOrigin = frame.identityTransform ? ray.origin : dvec3(frame.objectToWorld * dvec4(ray.origin, 1.0));
+    const dvec3 worldDirection = frame.identityTransform ? ray.direction : glm::dmat3(frame.objectToWorld) * ray.direction;
+    if (!clipToBox(worldOrigin, worldDirection, frame.options.regionLower, frame.options.regionUpper,
+          ray.tnear, ray.tfar))
+      return false;
   }
   SceneHit sceneHit;
   const bool hit = !frame.scene.empty() && frame.scene.intersect(ray, sceneHit, true);
@@ -342,7 +338,8 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
   }
   const FrameContext frame{ scene, camera, lighting, options, options.objectToWorld,
     glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))),
-    glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap, translucentSegment, translucentBounds };
+    glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap, translucentSegment, translucentBounds,
+    options.regionLower != dvec3(-kInfinity) || options.regionUpper != dvec3(kInfinity) };
 
   // Bands of tile rows, rendered one after another so that progress is reported (and a cancel
   // honoured) on the calling thread; tiles within a band run in parallel.

@@ -70,6 +70,14 @@ struct RenderOptions
   /// The camera must then map scene coordinates to clip space (worldToClip * objectToWorld);
   /// normals are taken to world space with the inverse transpose before shading.
   dmat4 objectToWorld{ 1.0 };
+  /// The box of world space this render draws, for sort-last compositing in visibility order
+  /// (one MPI rank's region of a kd-tree partition, say). Every primary ray is clipped to it:
+  /// surfaces, volumes and translucent layers outside are not drawn, and a ray that enters the
+  /// region inside a translucent solid draws only the union surfaces within. So the images of
+  /// regions that tile space, blended front to back ("over", premultiplied), give the unclipped
+  /// image. Faces may be infinite; the default, all of space, clips nothing.
+  dvec3 regionLower{ -std::numeric_limits<double>::infinity() };
+  dvec3 regionUpper{ std::numeric_limits<double>::infinity() };
   /// Called on the calling thread with the fraction done (0..1) between bands of rows.
   /// Returning false stops the render early (what was not rendered stays cleared).
   std::function<bool(double)> progress;

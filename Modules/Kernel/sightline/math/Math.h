@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -111,6 +112,31 @@ inline Ray DoubleRay::rounded() const
   ray.tnear = floatAtMost(tnear);
   ray.tfar = floatAtLeast(tfar);
   return ray;
+}
+
+/// Narrows [tnear, tfar] to where origin + t direction lies in the box [lower, upper] (slab
+/// test; infinite faces allowed). Returns false when nothing of the interval is left. A ray
+/// lying in a face plane belongs to the box above that plane only, so of two boxes sharing a
+/// face exactly one takes it.
+inline bool clipToBox(const dvec3& origin, const dvec3& direction, const dvec3& lower,
+  const dvec3& upper, double& tnear, double& tfar)
+{
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double o = origin[axis], d = direction[axis];
+    if (d == 0.0)
+    {
+      if (o < lower[axis] || o >= upper[axis])
+        return false;
+      continue;
+    }
+    double t0 = (lower[axis] - o) / d, t1 = (upper[axis] - o) / d;
+    if (t0 > t1)
+      std::swap(t0, t1);
+    tnear = std::max(tnear, t0);
+    tfar = std::min(tfar, t1);
+  }
+  return tnear <= tfar;
 }
 
 inline bool isFinite(const vec3& v)

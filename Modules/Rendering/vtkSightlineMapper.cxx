@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <limits>
 #include <vector>
 
 class vtkSightlineMapper::vtkInternals
@@ -67,6 +68,18 @@ public:
 vtkSightlineMapper::vtkSightlineMapper()
   : Internals(new vtkInternals)
 {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 6; ++i)
+  {
+    this->Region[i] = i % 2 ? inf : -inf;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineMapper::SetRegionToAllOfSpace()
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  this->SetRegion(-inf, inf, -inf, inf, -inf, inf);
 }
 
 //------------------------------------------------------------------------------
@@ -283,6 +296,15 @@ bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightColle
                   << height << " pixels.");
     return false;
   }
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    if (!(this->Region[2 * axis] <= this->Region[2 * axis + 1]))
+    {
+      vtkErrorMacro(<< "The region's " << "xyz"[axis] << " range [" << this->Region[2 * axis]
+                    << ", " << this->Region[2 * axis + 1] << "] is empty or not a number.");
+      return false;
+    }
+  }
   if (!this->Internals->WarnedPositionalLight &&
     SightlineKernelConversions::HasPositionalLight(lights))
   {
@@ -312,6 +334,8 @@ bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightColle
   this->ConfigureRender(options);
   options.depthLimit = depthLimit;
   options.primitiveIds = selection;
+  options.regionLower = sightline::dvec3(this->Region[0], this->Region[2], this->Region[4]);
+  options.regionUpper = sightline::dvec3(this->Region[1], this->Region[3], this->Region[5]);
   const sightline::EmbreeScene* opaqueScene = in.Scene.get();
   if (translucent)
   {
@@ -389,6 +413,8 @@ void vtkSightlineMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ShadowMode: " << this->GetShadowModeAsString() << "\n";
   os << indent << "ShadowSamples: " << this->ShadowSamples << "\n";
   os << indent << "LightAngularRadius: " << this->LightAngularRadius << " degrees\n";
+  os << indent << "Region: " << this->Region[0] << " " << this->Region[1] << " " << this->Region[2]
+     << " " << this->Region[3] << " " << this->Region[4] << " " << this->Region[5] << "\n";
   this->Internals->Window.PrintSelf(os, indent);
   os << indent << "NumberOfPrimitives: "
      << (this->Internals->Geometry ? this->Internals->Geometry->size() : 0) << "\n";

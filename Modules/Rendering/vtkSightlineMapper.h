@@ -183,6 +183,20 @@ public:
 
   ///@{
   /**
+   * The box of world space this mapper draws: xmin, xmax, ymin, ymax, zmin, zmax, faces
+   * possibly infinite. Every ray is clipped to it, so that each MPI rank draws only its region
+   * of a kd-tree partition and the ranks' images, blended front to back in the regions'
+   * visibility order, give the one-process image, translucent unions included
+   * (vtkSightlineTubeRepresentation sets it under ParaView's ordered compositing). Default:
+   * all of space. A NaN or a min above its max is an error, and nothing is drawn.
+   */
+  vtkSetVector6Macro(Region, double);
+  vtkGetVector6Macro(Region, double);
+  void SetRegionToAllOfSpace();
+  ///@}
+
+  ///@{
+  /**
    * Desired update rate (frames per second) above which a frame counts as interactive.
    * vtkRenderWindowInteractor asks for 15 while the user drags and 0.0001 when still.
    * Default 1.
@@ -308,6 +322,7 @@ protected:
   int ShadowMode = SHADOWS_OFF;
   int ShadowSamples = 16;
   double LightAngularRadius = 8.6;
+  double Region[6];
   double LastFrameSeconds = 0.0;
   double LastGeometrySeconds = 0.0;
   double LastBuildSeconds = 0.0;

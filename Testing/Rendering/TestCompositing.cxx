@@ -76,7 +76,9 @@ double Boundary(vtkImageData* image, int row, bool leftIsOrange)
     if (IsOrange(p) != leftIsOrange && firstRight < 0)
       firstRight = x;
     if (firstRight >= 0)
+    {
       EXPECT_NE(IsOrange(p), leftIsOrange) << "row " << row << " column " << x;
+    }
   }
   return firstRight < 0 ? 1e9 : WorldX(firstRight);
 }

@@ -5,6 +5,8 @@
 // Baselines with vtkTesting's metric, threshold 0.5.
 #include "SightlineTestUtilities.h"
 
+#include "sightline/core/Framebuffer.h"
+
 #include "vtkAppendFilter.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
@@ -288,6 +290,58 @@ TEST(TubeMapper, TranslucentTubesInMultisampledWindows)
   int differing = 0;
   MaxRGBDifference(a, b, &differing);
   EXPECT_LT(differing, 320 * 240 / 50) << "only antialiased edges may differ";
+}
+
+// Sort-last compositing over MPI ranks: the neuron, translucent, drawn in two half-spaces
+// (SetRegion) whose images blended front to back equal the whole image; a bad region is an
+// error, not an image.
+TEST(TubeMapper, RegionHalvesBlendToTheWholeTranslucentImage)
+{
+  vtkNew<vtkSightlineSWCReader> reader;
+  reader->SetFileName((std::string(SIGHTLINE_SOURCE_DIR) + "/Testing/Data/SWC/neuron_three_point_soma.swc").c_str());
+  Scene scene(160, 120);
+  scene.mapper->SetInputConnection(reader->GetOutputPort());
+  scene.mapper->SetRadiusArrayName("Radius");
+  scene.mapper->SetPredecessorArrayName("ParentIndex");
+  scene.mapper->ScalarVisibilityOff();
+  scene.actor->GetProperty()->SetOpacity(0.4);
+  vtkNew<vtkCamera> camera;
+  camera->SetFocalPoint(-2, 2, 0);
+  camera->SetPosition(-30, -20, 35);
+  camera->SetViewUp(0, 1, 0);
+  camera->SetViewAngle(40);
+  sightline::Framebuffer whole, left, right;
+  ASSERT_TRUE(scene.mapper->RayTrace(scene.actor, camera, nullptr, 160, 120, whole));
+  const double inf = std::numeric_limits<double>::infinity(), cut = -1.0;
+  scene.mapper->SetRegion(-inf, cut, -inf, inf, -inf, inf);
+  ASSERT_TRUE(scene.mapper->RayTrace(scene.actor, camera, nullptr, 160, 120, left));
+  scene.mapper->SetRegion(cut, inf, -inf, inf, -inf, inf);
+  ASSERT_TRUE(scene.mapper->RayTrace(scene.actor, camera, nullptr, 160, 120, right));
+  // The camera is at x < cut: every ray crosses the left half first.
+  int covered = 0, both = 0;
+  for (std::size_t i = 0; i < whole.pixelCount(); ++i)
+  {
+    const sightline::vec4 front = left.Color[i], back = right.Color[i], expected = whole.Color[i];
+    const float alpha = front.a + (1.0f - front.a) * back.a;
+    ASSERT_NEAR(alpha, expected.a, 1e-5f) << "pixel " << i;
+    if (expected.a == 0.0f)
+      continue;
+    ++covered;
+    both += front.a > 0.0f && back.a > 0.0f;
+    const sightline::vec3 blended =
+      front.a * sightline::vec3(front) + (1.0f - front.a) * back.a * sightline::vec3(back);
+    EXPECT_NEAR(glm::length(blended - expected.a * sightline::vec3(expected)), 0.0f, 1e-4f) << "pixel " << i;
+  }
+  EXPECT_GT(covered, 1000);
+  EXPECT_GT(both, 50);
+
+  vtkNew<MessageCollector> messages;
+  messages->Observe(scene.mapper);
+  scene.mapper->SetRegion(0.0, std::nan(""), -inf, inf, -inf, inf);
+  EXPECT_FALSE(scene.mapper->RayTrace(scene.actor, camera, nullptr, 160, 120, whole));
+  EXPECT_TRUE(messages->Contains("region's x range"));
+  scene.mapper->SetRegionToAllOfSpace();
+  EXPECT_TRUE(scene.mapper->RayTrace(scene.actor, camera, nullptr, 160, 120, whole));
 }
 
 TEST(TubeMapper, BadInputIsReportedByName)

@@ -6,12 +6,15 @@
 #include "vtkAppendPolyData.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkNew.h"
+#include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace
 {
@@ -179,4 +182,44 @@ vtkDataSet* SightlineMapperInput::Get(vtkAlgorithm* mapper, bool update)
     this->Flat = append->GetOutput();
   }
   return this->Flat;
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkPointSet*> SightlineMapperInput::PointSets(vtkDataObject* data)
+{
+  std::vector<vtkPointSet*> sets;
+  if (auto* pointSet = vtkPointSet::SafeDownCast(data))
+  {
+    sets.push_back(pointSet);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        sets.push_back(leaf);
+      }
+    }
+  }
+  return sets;
+}
+
+//------------------------------------------------------------------------------
+double SightlineMapperInput::LargestRadius(vtkDataArray* array, double radius, double scale)
+{
+  double largest = std::isfinite(radius) ? std::abs(radius) : 0.0;
+  if (!array || array->GetNumberOfComponents() != 1)
+  {
+    return largest;
+  }
+  double range[2];
+  array->GetFiniteRange(range, 0);
+  if (range[0] <= range[1])
+  {
+    largest = std::max({ largest, std::abs(range[0] * scale), std::abs(range[1] * scale) });
+  }
+  return largest;
 }

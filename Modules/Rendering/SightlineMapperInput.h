@@ -51,6 +51,14 @@ public:
   /// ids stored in a leaf's arrays can be made ids of the union.
   const std::vector<vtkIdType>& GetLeafPointOffsets() const { return this->Offsets; }
 
+  /// The point sets of `data`: itself, or every leaf of a composite (no flattening, no messages).
+  static std::vector<class vtkPointSet*> PointSets(vtkDataObject* data);
+
+  /// The largest of `radius` and of the (finite) values of `array` (one component, NaN
+  /// skipped) times `scale`, or `radius` when the array is null or has several components:
+  /// how far the spheres and tubes of one point set reach beyond their points.
+  static double LargestRadius(class vtkDataArray* array, double radius, double scale);
+
   /// Whether the last input was a composite dataset.
   bool WasComposite() const { return this->Composite; }
 

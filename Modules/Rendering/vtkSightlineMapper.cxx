@@ -76,6 +76,12 @@ vtkSightlineMapper::vtkSightlineMapper()
 }
 
 //------------------------------------------------------------------------------
+std::vector<vtkPointSet*> vtkSightlineMapper::PointSets(vtkDataObject* data)
+{
+  return SightlineMapperInput::PointSets(data);
+}
+
+//------------------------------------------------------------------------------
 void vtkSightlineMapper::SetRegionToAllOfSpace()
 {
   const double inf = std::numeric_limits<double>::infinity();

@@ -91,6 +91,7 @@ struct RenderOptions;
 class vtkCamera;
 class vtkDataSet;
 class vtkLightCollection;
+class vtkPointSet;
 
 class SIGHTLINERENDERING_EXPORT vtkSightlineMapper
   : public vtkMapper
@@ -195,6 +196,16 @@ public:
   void SetRegionToAllOfSpace();
   ///@}
 
+  /**
+   * How far beyond its points a primitive drawn from `data` (a point set or a composite of
+   * them) reaches with this mapper's settings: a sphere's or tube's largest radius, 0 for no
+   * points. Negative where the primitives are not centred on points (glyph images): such data
+   * cannot be split into regions by its points. A radius array that is missing or malformed
+   * counts as the constant radius (the render reports it). Used to pad each MPI rank's region
+   * so that it holds every primitive reaching into it.
+   */
+  virtual double ComputeReach(vtkDataObject* vtkNotUsed(data)) { return -1.0; }
+
   ///@{
   /**
    * Desired update rate (frames per second) above which a frame counts as interactive.
@@ -231,6 +242,12 @@ public:
   ///@}
 
 #ifndef __VTK_WRAP__
+  /**
+   * The point sets of `data`: itself, or every leaf of a composite (no flattening, no
+   * messages); what ComputeReach reads.
+   */
+  static std::vector<vtkPointSet*> PointSets(vtkDataObject* data);
+
   /**
    * GL-free path: ray-trace the primitives of `actor` (a vtkActor) as `camera` sees them in an
    * image of width x height pixels (aspect width/height), lit by `lights` (VTK's automatic

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSightlineSphereMapper.h"
 
+#include "SightlineMapperInput.h"
+
 #include "SightlineKernelConversions.h"
 
 #include "vtkCellArray.h"
@@ -17,6 +19,7 @@
 
 #include "sightline/spheres/SphereSet.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -171,6 +174,23 @@ void vtkSightlineSphereMapper::ComputeSelectionIds(
       cellIds[i] = vertexCell[pointIds[i]];
     }
   }
+}
+
+//------------------------------------------------------------------------------
+double vtkSightlineSphereMapper::ComputeReach(vtkDataObject* data)
+{
+  double reach = 0.0;
+  for (vtkPointSet* points : SightlineMapperInput::PointSets(data))
+  {
+    if (points->GetNumberOfPoints() > 0)
+    {
+      vtkDataArray* array = this->RadiusArrayName && *this->RadiusArrayName
+        ? points->GetPointData()->GetArray(this->RadiusArrayName)
+        : nullptr;
+      reach = std::max(reach, SightlineMapperInput::LargestRadius(array, this->Radius, this->RadiusScale));
+    }
+  }
+  return reach;
 }
 
 //------------------------------------------------------------------------------

@@ -56,6 +56,11 @@ public:
   vtkGetMacro(RadiusScale, double);
   ///@}
 
+  /**
+   * The largest radius these settings give a point of `data` (see vtkSightlineMapper).
+   */
+  double ComputeReach(vtkDataObject* data) override;
+
 protected:
   vtkSightlineSphereMapper();
   ~vtkSightlineSphereMapper() override;

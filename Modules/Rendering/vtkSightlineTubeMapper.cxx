@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkSightlineTubeMapper.h"
 
+#include "SightlineMapperInput.h"
+
 #include "SightlineKernelConversions.h"
 
 #include "vtkCellArray.h"
@@ -314,6 +316,35 @@ const char* vtkSightlineTubeMapper::GetLinkLayoutAsString()
     default:
       return "CombinedOnTheFly";
   }
+}
+
+double vtkSightlineTubeMapper::ComputeReach(vtkDataObject* data)
+{
+  double reach = 0.0;
+  const int vary = this->GetVaryRadius();
+  for (vtkPointSet* points : SightlineMapperInput::PointSets(data))
+  {
+    if (points->GetNumberOfPoints() == 0)
+    {
+      continue;
+    }
+    const bool named = this->RadiusArrayName && *this->RadiusArrayName;
+    vtkDataArray* array = vary == VARY_RADIUS_OFF ? nullptr
+      : named                                     ? points->GetPointData()->GetArray(this->RadiusArrayName)
+                                                  : points->GetPointData()->GetScalars();
+    double largest = std::isfinite(this->Radius) ? std::abs(this->Radius) : 0.0;
+    if (array && vary == VARY_RADIUS_BY_ABSOLUTE_SCALAR)
+    {
+      largest = SightlineMapperInput::LargestRadius(array, this->Radius, this->RadiusScale);
+    }
+    else if (array && std::isfinite(this->RadiusFactor))
+    {
+      // Radius * (1 + (factor - 1) u) with u in [0, 1]: largest at an end.
+      largest = std::max(largest, std::abs(this->Radius * this->RadiusFactor));
+    }
+    reach = std::max(reach, largest);
+  }
+  return reach;
 }
 
 void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)

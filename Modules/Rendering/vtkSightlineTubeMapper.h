@@ -131,6 +131,11 @@ public:
    */
   vtkGetMacro(NumberOfLinks, vtkIdType);
 
+  /**
+   * The largest radius these settings give a point of `data` (see vtkSightlineMapper).
+   */
+  double ComputeReach(vtkDataObject* data) override;
+
 protected:
   vtkSightlineTubeMapper();
   ~vtkSightlineTubeMapper() override;

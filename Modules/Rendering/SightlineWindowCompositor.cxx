@@ -107,6 +107,10 @@ bool SightlineWindowCompositor::Draw(vtkOpenGLRenderWindow* window, int width, i
   vtkOpenGLState::ScopedglDepthFunc depthFunc(state);
   vtkOpenGLState::ScopedglEnableDisable blend(state, GL_BLEND);
   vtkOpenGLState::ScopedglBlendFuncSeparate blendFunction(state);
+  // What the pass drawing around us set (restored after the quad).
+  GLint blendEquation[2] = { GL_FUNC_ADD, GL_FUNC_ADD };
+  glGetIntegerv(GL_BLEND_EQUATION_RGB, &blendEquation[0]);
+  glGetIntegerv(GL_BLEND_EQUATION_ALPHA, &blendEquation[1]);
   state->vtkglEnable(GL_DEPTH_TEST);
   state->vtkglDepthFunc(GL_LEQUAL);
   if (blending == Blending::Replace)
@@ -119,6 +123,10 @@ bool SightlineWindowCompositor::Draw(vtkOpenGLRenderWindow* window, int width, i
     // opaque depth.
     state->vtkglEnable(GL_BLEND);
     state->vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    // "Over" needs addition; a dual depth-peeling pass leaves GL_MAX set while translucent
+    // props draw (its depth passes), which kept only the brighter of layer and background.
+    state->ResetGLBlendEquationState(); // the cache may not know what was set behind it
+    state->vtkglBlendEquation(GL_FUNC_ADD);
     state->vtkglDepthMask(blending == Blending::PremultipliedDepth ? GL_TRUE : GL_FALSE);
   }
 
@@ -129,6 +137,10 @@ bool SightlineWindowCompositor::Draw(vtkOpenGLRenderWindow* window, int width, i
   this->Quad->Render();
   this->DepthTexture->Deactivate();
   this->ColorTexture->Deactivate();
+  if (blending != Blending::Replace)
+  {
+    state->vtkglBlendEquationSeparate(blendEquation[0], blendEquation[1]);
+  }
   return true;
 }
 

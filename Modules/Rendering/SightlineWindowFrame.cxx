@@ -5,11 +5,13 @@
 #include "SightlineTracer.h"
 
 #include "vtkAbstractMapper3D.h"
+#include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkCommand.h"
 #include "vtkDataObject.h"
 #include "vtkHardwareSelector.h"
 #include "vtkMatrix4x4.h"
+#include "vtkNew.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkProp3D.h"
 #include "vtkRenderer.h"
@@ -96,6 +98,36 @@ void SightlineWindowFrame::PrintSelf(std::ostream& os, vtkIndent indent) const
 }
 
 //------------------------------------------------------------------------------
+SightlineWindowFrame::~SightlineWindowFrame()
+{
+  if (this->CountedRenderer)
+  {
+    this->CountedRenderer->RemoveObserver(this->FrameObserver);
+  }
+}
+
+//------------------------------------------------------------------------------
+void SightlineWindowFrame::CountFrames(vtkRenderer* renderer)
+{
+  if (this->CountedRenderer == renderer)
+  {
+    return;
+  }
+  if (this->CountedRenderer)
+  {
+    this->CountedRenderer->RemoveObserver(this->FrameObserver);
+  }
+  vtkNew<vtkCallbackCommand> count;
+  count->SetClientData(this);
+  count->SetCallback([](vtkObject*, unsigned long, void* self, void*)
+    { ++static_cast<SightlineWindowFrame*>(self)->FrameNumber; });
+  this->FrameObserver = renderer->AddObserver(vtkCommand::StartEvent, count);
+  this->CountedRenderer = renderer;
+  // This frame started before the observer: count it now.
+  ++this->FrameNumber;
+}
+
+//------------------------------------------------------------------------------
 void SightlineWindowFrame::Render(
   vtkAbstractMapper3D* mapper, SightlineTracer& tracer, vtkRenderer* renderer, vtkProp3D* prop)
 {
@@ -175,6 +207,19 @@ void SightlineWindowFrame::Render(
     this->Rgba = this->Frame.toRGBA8(sightline::vec3(0.0f));
     this->Key = std::move(key);
     changed = true;
+  }
+
+  if (behind)
+  {
+    // Blended over what is in the frame: once per frame, whatever the translucent pass's stages.
+    this->CountFrames(renderer);
+    if (this->BlendedFrame == this->FrameNumber && this->BlendedKey == this->Key)
+    {
+      mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
+      return;
+    }
+    this->BlendedFrame = this->FrameNumber;
+    this->BlendedKey = this->Key;
   }
 
   changed = changed || this->TexturesHoldSelection;

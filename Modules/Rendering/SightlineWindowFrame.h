@@ -10,6 +10,7 @@
 #include "SightlineWindowCompositor.h"
 
 #include "vtkIndent.h"
+#include "vtkWeakPointer.h"
 
 #include "sightline/core/Framebuffer.h"
 
@@ -28,6 +29,11 @@ class vtkWindow;
 class SightlineWindowFrame
 {
 public:
+  SightlineWindowFrame() = default;
+  ~SightlineWindowFrame();
+  SightlineWindowFrame(const SightlineWindowFrame&) = delete;
+  SightlineWindowFrame& operator=(const SightlineWindowFrame&) = delete;
+
   ///@{
   /// Pixel step while the render window asks for more frames per second than
   /// InteractiveUpdateRate (1 disables subsampling). The setters clamp the step to [1, 16]
@@ -74,6 +80,16 @@ private:
   std::vector<double> SelectionKey;
   std::vector<std::uint8_t> SelectionRgba;
   bool TexturesHoldSelection = false;
+
+  /// Counts the renderer's frames (its StartEvent): a translucent or volumetric layer is blended
+  /// over the frame once per frame and key, although a depth-peeling pass (ParaView's default)
+  /// hands translucent props to their mapper in each of its stages.
+  void CountFrames(vtkRenderer* renderer);
+  vtkWeakPointer<vtkRenderer> CountedRenderer;
+  unsigned long FrameObserver = 0;
+  std::uint64_t FrameNumber = 0;
+  std::uint64_t BlendedFrame = 0;
+  std::vector<double> BlendedKey;
 };
 
 /// Defines a mapper's Set/GetInteractiveSubsampling and Set/GetInteractiveUpdateRate (declared

@@ -143,9 +143,10 @@ def click(view, source, pixel, cells=False):
 class ParaViewPluginTest(unittest.TestCase):
     maxDiff = None
 
-    def compare_with_vtk(self, view, source, representation, prop, name, tolerance=0.001):
+    def compare_with_vtk(self, view, source, representation, prop, name, tolerance=0.001,
+                         colour_tolerance=24):
         """Renders the view, saves both images and asserts that at most `tolerance` of the
-        pixels differ from the VTK-level mapper's image."""
+        pixels differ from the VTK-level mapper's image by more than `colour_tolerance`/255."""
         Render(view)
         pv_pixels = view_image(view)
         ref_pixels = reference_image(view, prop)
@@ -153,8 +154,9 @@ class ParaViewPluginTest(unittest.TestCase):
         save_png(ref_pixels, f"ParaView{name}Reference.png")
         coverage = covered_fraction(pv_pixels, view.Background)
         self.assertGreater(coverage, 0.02, f"{name}: the representation drew (almost) nothing")
-        fraction = differing_fraction(pv_pixels, ref_pixels)
-        print(f"{name}: {coverage:.1%} of pixels covered, {fraction:.3%} differ from the VTK mapper")
+        fraction = differing_fraction(pv_pixels, ref_pixels, colour_tolerance)
+        print(f"{name}: {coverage:.1%} of pixels covered, {fraction:.3%} differ from the VTK mapper "
+              f"by more than {colour_tolerance}/255")
         self.assertLessEqual(fraction, tolerance, name)
         # And against the stored baseline (SIGHTLINE_UPDATE_BASELINES=1 rewrites it).
         baseline = os.path.join(BASELINES, f"{name}.png")
@@ -231,7 +233,9 @@ class ParaViewPluginTest(unittest.TestCase):
             sub = rep.GetClientSideObject().GetActiveRepresentation()
             self.assertTrue(sub.GetSightlineMapper().IsTranslucentFor(sub.GetActor()))
             actor.GetProperty().SetOpacity(0.4)
-            self.compare_with_vtk(view, height, rep, actor, "TubesTrkTranslucent")
+            # Closely: layers that lost the background behind them (ParaView's depth peeling left
+            # GL_MAX blending on) were 7-19/255 off.
+            self.compare_with_vtk(view, height, rep, actor, "TubesTrkTranslucent", colour_tolerance=3)
             Delete(view)
 
     def test_sh_glyphs_from_mif(self):

@@ -22,6 +22,8 @@ on rank 0, the other ranks hold nothing). With --bad-rank R (and
 --scene-set bad): the redistributed points with a radius array that is NaN on rank R only.
 """
 import argparse
+import json
+import math
 import os
 import sys
 
@@ -123,6 +125,79 @@ def mpi_save_view(view, folder, name, rep=None, camera=None):
     print(f"{name}: {path}", flush=True)
 
 
+def mpi_region(rep):
+    """Rank 0's region as its Sightline mapper clips to it (all of space on one rank)."""
+    return rep.GetClientSideObject().GetActiveRepresentation().GetSightlineMapper().GetRegion()
+
+
+def mpi_border_camera(rep, args):
+    """A camera whose view direction lies in a plane between two ranks' regions: a finite face of
+    rank 0's region. Several ranks write it to border_camera.json; --border-camera reads it, so
+    that every rank count renders from the same one."""
+    if args.border_camera:
+        with open(args.border_camera) as f:
+            return json.load(f)
+    region = mpi_region(rep)
+    faces = [i for i, value in enumerate(region) if math.isfinite(value)]
+    if not faces:
+        return None
+    axis, plane = faces[0] // 2, region[faces[0]]
+    focal_point = list(FOCAL_POINT)
+    focal_point[axis] = plane
+    position = list(focal_point)
+    position[(axis + 1) % 3] += 280.0  # a view direction in the plane
+    view_up = [0.0, 0.0, 0.0]
+    view_up[axis] = 1.0
+    camera = [focal_point, position, view_up]
+    with open(os.path.join(args.output, "border_camera.json"), "w") as f:
+        json.dump(camera, f)
+    print(f"border camera: the plane {'xyz'[axis]} = {plane:.3f} of rank 0's region {region}",
+          flush=True)
+    return camera
+
+
+def mpi_translucent(args, view, reader, split):
+    """Translucent tubes: the ranks' layers blended in visibility order (ordered compositing)."""
+    # The reader's own pieces: runs of streamlines in file order, interleaved in space; the
+    # representation sends every link to each region it reaches into.
+    rep = Show(reader, view)
+    rep.Representation = "Sightline Tubes"
+    rep.ColorArrayName = ["POINTS", ""]
+    rep.TubeRadius = 0.6
+    rep.Opacity = 0.4
+    mpi_save_view(view, args.output, "Translucent", rep)
+    print(f"Translucent: rank 0's region {mpi_region(rep)}", flush=True)
+    camera = mpi_border_camera(rep, args)
+    mpi_save_view(view, args.output, "TranslucentBorder", rep, camera=camera)
+    # From the front and below: the regions' order along the rays reversed.
+    mpi_save_view(view, args.output, "TranslucentBelow", rep,
+                  camera=(FOCAL_POINT, [22.0, 232.0, -164.0], [0.0, 0.0, 1.0]))
+    # With opaque spheres in the same view: they are drawn by region too.
+    spheres = Show(split, view)
+    spheres.Representation = "Sightline Spheres"
+    spheres.ColorArrayName = ["POINTS", ""]
+    spheres.SphereRadius = 0.5
+    spheres.DiffuseColor = [0.9, 0.6, 0.3]
+    mpi_save_view(view, args.output, "TranslucentWithSpheres", rep)
+    Hide(split, view)
+    Hide(reader, view)
+
+    # A bifurcating tree (an SWC neuron, all of it on rank 0 as the SWC reader gives it) from its
+    # predecessor array, crossing the regions' borders.
+    neuron = OpenDataFile(args.swc)
+    rep = Show(neuron, view)
+    rep.Representation = "Sightline Tubes"
+    rep.ColorArrayName = ["POINTS", ""]
+    rep.TubeRadiusArray = ["POINTS", "Radius"]
+    rep.TubePredecessorArray = ["POINTS", "ParentIndex"]
+    rep.Opacity = 0.5
+    for name, camera in (("TranslucentTree", ([-2.0, 2.0, 0.0], [-2.0, 2.0, 60.0], [0.0, 1.0, 0.0])),
+                         ("TranslucentTreeSide", ([-2.0, 2.0, 0.0], [50.0, 20.0, 20.0], [0.0, 1.0, 0.0]))):
+        mpi_save_view(view, args.output, name, rep, camera=camera)
+    print(f"TranslucentTree: rank 0's region {mpi_region(rep)}", flush=True)
+    Hide(neuron, view)
+
+
 def mpi_main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
@@ -130,6 +205,8 @@ def mpi_main():
     parser.add_argument("--swc", required=True)
     parser.add_argument("--output", required=True)
     parser.add_argument("--bad-rank", type=int, default=None)
+    parser.add_argument("--border-camera", default=None,
+                        help="JSON camera along a border plane, written by a run on several ranks")
     args = parser.parse_args()
     os.makedirs(args.output, exist_ok=True)
     LoadPlugin(args.plugin)
@@ -197,6 +274,8 @@ def mpi_main():
     rep.SphereRadius = 0.8
     mpi_save_view(view, args.output, "ReaderPieces", rep)
     Hide(own, view)
+
+    mpi_translucent(args, view, reader, split)
 
     neuron = mpi_record(OpenDataFile(args.swc), args.output, "EmptyRanks")
     rep = Show(neuron, view)

@@ -15,6 +15,13 @@ A driver run by /usr/bin/python3 (ctest). Modes:
             streamlines, none empty, together the whole; the image matches too;
           - EmptyRanks (an SWC neuron, all on rank 0 as the SWC reader gives it; ranks 1-3 hold
             nothing) matches too: empty ranks draw nothing and the collective render does not hang;
+          - translucent tubes (opacity 0.4 and 0.5), where the view blends the ranks in the
+            visibility order of its kd-tree regions: the streamlines from three directions (one
+            along the plane between two ranks' regions, found on 2 ranks and reused for 1 and 4),
+            with opaque spheres among them, and an SWC tree (bifurcations, all of it read on rank
+            0) from two directions, on 2 and 4 ranks differ from the 1-rank image in at most
+            0.05 % of pixels by more than 8/255, printing the counts; rank 0's region is finite on
+            several ranks and rank 0 draws fewer streamline points than one rank does;
           - no rank reports an error.
   bad     runs mpi_scene.py --bad-rank 1 on 2 ranks: rank 1's radius array is NaN. Rank 1 reports
           it (naming the radius), the run ends normally, and rank 0's spheres still render: the
@@ -43,7 +50,11 @@ PVBATCH = os.environ["SIGHTLINE_PVBATCH"]
 MPIRUN = os.environ["SIGHTLINE_MPIRUN"]
 PLUGIN = os.environ["SIGHTLINE_PLUGIN"]
 TEMP = os.path.join(os.environ.get("SIGHTLINE_TEST_TEMP_DIR", "/tmp"), "ParaViewMPI")
-TOLERANCE = 0.001  # fraction of pixels allowed to differ by more than 24/255
+TOLERANCE = 0.001  # fraction of pixels allowed to differ by more than 24/255 (opaque scenes)
+# Translucent scenes: IceT blends the ranks' 8-bit premultiplied images, one rounding per rank.
+TRANSLUCENT_TOLERANCE = 0.0005  # fraction of pixels allowed to differ by more than 8/255
+TRANSLUCENT = ("Translucent", "TranslucentBorder", "TranslucentBelow", "TranslucentWithSpheres",
+               "TranslucentTree", "TranslucentTreeSide")
 RUN_TIMEOUT = 120
 BACKGROUND = np.round(np.array([0.1, 0.1, 0.15]) * 255).astype(int)
 
@@ -106,15 +117,18 @@ class Checks:
 
 def check_ranks(trk):
     checks = Checks()
-    folders = {n: os.path.join(TEMP, f"np{n}") for n in (1, 2, 4)}
-    rank0 = {}
+    # 2 ranks first: that run finds the plane between its ranks' regions for the border camera.
+    folders = {n: os.path.join(TEMP, f"np{n}") for n in (2, 1, 4)}
+    border_camera = os.path.join(folders[2], "border_camera.json")
+    rank0, regions = {}, {}
     for n, folder in folders.items():
-        result = run(n, folder, trk)
+        result = run(n, folder, trk, *(["--border-camera", border_camera] if n != 2 else []))
         if not checks.expect(result.returncode == 0, f"mpirun -np {n} pvbatch failed"):
             return 1
         checks.expect(not errors(result.stdout),
                       f"{n} ranks reported errors:\n" + "\n".join(errors(result.stdout)))
         rank0[n] = traced(result.stdout)
+        regions[n] = re.findall(r"^Translucent: rank 0's region \((.*)\)", result.stdout, re.MULTILINE)
         # Each rank traces its own piece: rank 0's mapper gets rank 0's piece, not the gathered
         # whole (the view did not move the geometry to one process).
         for name in ("Spheres", "TubesSplit", "ReaderPieces", "EmptyRanks"):
@@ -176,6 +190,28 @@ def check_ranks(trk):
                   f"24/255 ({share:.1%} of pixels covered; {np.mean(difference > 0):.4%} differ "
                   f"at all, by {difference.max()}/255 at most)")
             checks.expect(fraction <= TOLERANCE, f"{name}: more than {TOLERANCE:.1%} differ")
+    for n in (1, 2, 4):
+        region = [float(v) for v in regions[n][0].split(",")] if regions[n] else []
+        finite = [v for v in region if np.isfinite(v)]
+        print(f"translucent tubes, {n} ranks: rank 0's region {region}; rank 0 drew "
+              f"{rank0[n].get('Translucent', (0, 0))[1]} streamline points")
+        checks.expect(len(region) == 6 and (bool(finite) == (n > 1)),
+                      f"{n} ranks: rank 0's region is not {'finite' if n > 1 else 'all of space'}")
+        if n > 1:
+            checks.expect(0 < rank0[n]["Translucent"][1] < rank0[1]["Translucent"][1],
+                          f"{n} ranks: rank 0 did not draw a part of the streamlines")
+    for name in TRANSLUCENT:
+        reference = image(folders[1], name)
+        share = float(np.mean(covered(reference)))
+        checks.expect(share > 0.02, f"{name}: the 1-rank image is (almost) empty")
+        for n in (2, 4):
+            difference = np.abs(image(folders[n], name) - reference).max(axis=2)
+            fraction = float(np.mean(difference > 8))
+            print(f"{name}: {n} ranks vs 1 rank: {int(np.sum(difference > 8))} pixels "
+                  f"({fraction:.4%}) differ by more than 8/255, {int(np.sum(difference > 2))} by "
+                  f"more than 2/255, by {difference.max()}/255 at most ({share:.1%} covered)")
+            checks.expect(fraction <= TRANSLUCENT_TOLERANCE,
+                          f"{name}: more than {TRANSLUCENT_TOLERANCE:.2%} differ")
     ranks_image = image(folders[4], "Ranks")
     colours = {tuple(c) for c in ranks_image[covered(ranks_image)].reshape(-1, 3) // 32}
     checks.expect(len(colours) >= 4, "the 4-rank Ranks image shows fewer than 4 colours")

@@ -4,7 +4,10 @@
 #include "vtkActor.h"
 #include "vtkAlgorithm.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkAppendFilter.h"
 #include "vtkBoundingBox.h"
+#include "vtkCellType.h"
+#include "vtkCommunicator.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataSet.h"
@@ -12,15 +15,25 @@
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkMultiBlockDataSet.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPVRenderView.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
 #include "vtkProperty.h"
+#include "vtkPVRenderView.h"
+#include "vtkPVRenderViewDataDeliveryManager.h"
+#include "vtkRedistributeDataSetFilter.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
 #include "vtkSightlineMapper.h"
 #include "vtkTransform.h"
+#include "vtkUnstructuredGrid.h"
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
+#include <vector>
 
 namespace
 {
@@ -89,6 +102,18 @@ vtkSmartPointer<vtkMultiBlockDataSet> AsMultiBlock(vtkDataObject* data)
   }
   return blocks;
 }
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> vtkSightlineRepresentation::AppendedCells(vtkAppendFilter* append)
+{
+  if (append->GetNumberOfInputConnections(0) == 0)
+  {
+    return vtkSmartPointer<vtkUnstructuredGrid>::New(); // an empty piece still takes part
+  }
+  append->Update();
+  auto cells = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  cells->ShallowCopy(append->GetOutput());
+  return cells;
 }
 
 vtkSightlineRepresentation::vtkSightlineRepresentation(vtkSightlineMapper* mapper)
@@ -166,6 +191,17 @@ int vtkSightlineRepresentation::ProcessViewRequest(
     // Ranks without data still take part in every frame: an empty piece, drawn as nothing.
     vtkPVView::SetPiece(inInfo, this, this->Cache);
     vtkPVRenderView::SetGeometryBounds(inInfo, this, this->DataBounds);
+    if (this->DrawsByRegion())
+    {
+      // The view's kd-tree regions are built from the points of these pieces (the data stay
+      // where they are: DrawRegion moves them, with the margin the view's move lacks).
+      vtkPVRenderView::SetOrderedCompositingConfiguration(
+        inInfo, this, vtkPVRenderView::USE_DATA_FOR_LOAD_BALANCING);
+    }
+    if (this->NeedsOrderedCompositing())
+    {
+      outInfo->Set(vtkPVRenderView::NEED_ORDERED_COMPOSITING(), 1);
+    }
   }
   else if (request == vtkPVView::REQUEST_RENDER())
   {
@@ -179,11 +215,140 @@ int vtkSightlineRepresentation::ProcessViewRequest(
       vtkDataSet::SafeDownCast(piece) || vtkCompositeDataSet::SafeDownCast(piece);
     if (drawable)
     {
-      this->Mapper->SetInputConnection(producer);
+      this->SetMapperInput(inInfo, producer);
     }
     this->Actor->SetVisibility(drawable && this->GetVisibility() ? 1 : 0);
   }
   return 1;
+}
+
+void vtkSightlineRepresentation::SetMapperInput(vtkInformation* inInfo, vtkAlgorithmOutput* producer)
+{
+  double region[6];
+  // The same decision on every rank: DrawRegion is collective.
+  if (this->DrawsByRegion() && GetOrderedCompositingRegion(inInfo, region))
+  {
+    this->DrawRegion(producer->GetProducer()->GetOutputDataObject(producer->GetIndex()), region, inInfo);
+    return;
+  }
+  this->DrawingRegionCells(false);
+  this->Mapper->SetRegionToAllOfSpace();
+  this->Mapper->SetInputConnection(producer);
+}
+
+bool vtkSightlineRepresentation::DrawsByRegion()
+{
+  // Mappers of primitives centred on points (spheres, tubes) have a reach; glyph mappers none.
+  return this->Mapper->ComputeReach(nullptr) >= 0.0;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> vtkSightlineRepresentation::RegionCells(vtkDataObject* piece)
+{
+  vtkNew<vtkAppendFilter> append;
+  for (vtkPointSet* leaf : vtkSightlineMapper::PointSets(piece))
+  {
+    const vtkIdType count = leaf->GetNumberOfPoints();
+    if (count == 0)
+    {
+      continue;
+    }
+    auto vertices = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    vertices->SetPoints(leaf->GetPoints());
+    vertices->GetPointData()->ShallowCopy(leaf->GetPointData());
+    vertices->Allocate(count);
+    for (vtkIdType i = 0; i < count; ++i)
+    {
+      vertices->InsertNextCell(VTK_VERTEX, 1, &i);
+    }
+    append->AddInputData(vertices);
+  }
+  return AppendedCells(append);
+}
+
+void vtkSightlineRepresentation::DrawRegion(
+  vtkDataObject* piece, const double region[6], vtkInformation* inInfo)
+{
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
+  auto* delivery = vtkPVRenderViewDataDeliveryManager::SafeDownCast(view->GetDeliveryManager());
+  const vtkMTimeType pieceTime = piece ? piece->GetMTime() : 0;
+  // Every rank must know the largest reach, and redistribute when any rank's piece changed.
+  const double local[2] = { std::max(0.0, this->Mapper->ComputeReach(piece)),
+    delivery->GetCutsMTime() != this->RegionCutsTime || pieceTime != this->RegionPieceTime ||
+        !this->RegionPiece
+      ? 1.0
+      : 0.0 };
+  double global[2] = { 0.0, 0.0 };
+  controller->AllReduce(local, global, 2, vtkCommunicator::MAX_OP);
+  if (global[1] > 0.0 || global[0] != this->RegionReach)
+  {
+    // A primitive reaching into a region has its cell within `reach` of it: pad every region
+    // by the largest reach and send each cell to every padded region it meets.
+    std::vector<vtkBoundingBox> padded = delivery->GetCuts();
+    for (vtkBoundingBox& box : padded)
+    {
+      box.Inflate(global[0]);
+    }
+    vtkNew<vtkRedistributeDataSetFilter> redistribute;
+    redistribute->SetController(controller);
+    redistribute->SetInputData(this->RegionCells(piece));
+    redistribute->UseExplicitCutsOn();
+    redistribute->SetExplicitCuts(padded);
+    redistribute->ExpandExplicitCutsOn(); // the outer regions take what lies beyond
+    redistribute->SetBoundaryModeToAssignToAllIntersectingRegions();
+    redistribute->GenerateGlobalCellIdsOff();
+    redistribute->Update();
+    this->RegionPiece = vtkSmartPointer<vtkDataObject>::Take(redistribute->GetOutputDataObject(0)->NewInstance());
+    this->RegionPiece->ShallowCopy(redistribute->GetOutputDataObject(0));
+    this->RegionCutsTime = delivery->GetCutsMTime();
+    this->RegionPieceTime = pieceTime;
+    this->RegionReach = global[0];
+  }
+  this->DrawingRegionCells(true);
+  this->Mapper->SetRegion(const_cast<double*>(region));
+  this->Mapper->SetInputDataObject(this->RegionPiece);
+}
+
+bool vtkSightlineRepresentation::GetOrderedCompositingRegion(vtkInformation* inInfo, double region[6])
+{
+  auto* view = vtkPVRenderView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  if (!view || !controller || controller->GetNumberOfProcesses() < 2 ||
+    !view->GetUseOrderedCompositing())
+  {
+    return false;
+  }
+  auto* delivery = vtkPVRenderViewDataDeliveryManager::SafeDownCast(view->GetDeliveryManager());
+  if (!delivery)
+  {
+    return false;
+  }
+  // One box per rank (ParaView 5.11 merges the kd-tree's leaves down to the rank count).
+  const std::vector<vtkBoundingBox>& cuts = delivery->GetCuts();
+  const int rank = controller->GetLocalProcessId();
+  if (static_cast<int>(cuts.size()) != controller->GetNumberOfProcesses() || !cuts[rank].IsValid())
+  {
+    return false;
+  }
+  vtkBoundingBox all;
+  for (const vtkBoundingBox& cut : cuts)
+  {
+    all.AddBox(cut);
+  }
+  double outer[6];
+  all.GetBounds(outer);
+  cuts[rank].GetBounds(region);
+  // The cuts end at the load-balancing data's bounds; what lies beyond (a tube's radius, a
+  // glyph) belongs to the region at that face.
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 6; ++i)
+  {
+    if (region[i] == outer[i])
+    {
+      region[i] = i % 2 ? inf : -inf;
+    }
+  }
+  return true;
 }
 
 bool vtkSightlineRepresentation::AddToView(vtkView* view)

@@ -22,9 +22,11 @@
 #include "vtkSmartPointer.h"
 
 class vtkActor;
+class vtkAlgorithmOutput;
 class vtkProperty;
 class vtkScalarsToColors;
 class vtkSightlineMapper;
+class vtkUnstructuredGrid;
 
 class SIGHTLINEPARAVIEW_EXPORT vtkSightlineRepresentation : public vtkPVDataRepresentation
 {
@@ -101,6 +103,46 @@ protected:
   virtual void SetScalarColoring(bool on);
 
   /**
+   * Hands the view's piece (from `producer`) to the mapper at REQUEST_RENDER; `inInfo` is the
+   * view's request. Subclasses that draw other data on some frames (the tubes' region pieces
+   * under ordered compositing) override it.
+   */
+  virtual void SetMapperInput(vtkInformation* inInfo, vtkAlgorithmOutput* producer);
+
+  /**
+   * Whether the view blends the ranks' images in the visibility order of its kd-tree regions
+   * (ParaView's ordered compositing, on several ranks), and then this rank's region in `region`
+   * (xmin, xmax, ymin, ymax, zmin, zmax) with the faces on the outside of all regions pushed
+   * to infinity: the regions then tile all of space. Valid at REQUEST_RENDER. The same on
+   * every rank, so a collective step may follow.
+   */
+  static bool GetOrderedCompositingRegion(vtkInformation* inInfo, double region[6]);
+
+  /**
+   * Whether this representation needs the view to blend the ranks' images in visibility order
+   * (translucent tubes). Default false. Any representation whose mapper's primitives sit on
+   * points (spheres, tubes) is drawn by region whenever the view does so (see the class
+   * documentation).
+   */
+  virtual bool NeedsOrderedCompositing() { return false; }
+
+  /**
+   * The cells that carry the piece's primitives to the ranks' regions, as one unstructured
+   * grid with the point data: by default a vertex per point of every leaf (spheres).
+   */
+  virtual vtkSmartPointer<vtkUnstructuredGrid> RegionCells(vtkDataObject* piece);
+
+  /**
+   * Called with true before the mapper draws a region's cells, with false before it draws the
+   * view's piece again (the tubes then ignore their predecessor array, whose ids are the
+   * piece's).
+   */
+  virtual void DrawingRegionCells(bool vtkNotUsed(on)) {}
+
+  /// The output of `append` (its inputs: the cells of each leaf), or an empty grid for none.
+  static vtkSmartPointer<vtkUnstructuredGrid> AppendedCells(class vtkAppendFilter* append);
+
+  /**
    * The array name a ParaView array property selected, or null for none: an empty name or
    * the "None" entry of an optional array's list.
    */
@@ -113,6 +155,19 @@ protected:
   double DataBounds[6];
 
 private:
+  /// Whether the primitives sit on points, so that they can be sent to regions by their cells.
+  bool DrawsByRegion();
+
+  /// Moves every primitive reaching into a rank's region to that rank (the regions padded by
+  /// the largest reach, cells assigned to every padded region they meet) and draws them
+  /// clipped to the region. Collective over the ranks.
+  void DrawRegion(vtkDataObject* piece, const double region[6], vtkInformation* inInfo);
+
+  vtkSmartPointer<vtkDataObject> RegionPiece; ///< this rank's cells under ordered compositing
+  vtkMTimeType RegionCutsTime = 0;
+  vtkMTimeType RegionPieceTime = 0;
+  double RegionReach = -1.0;
+
   vtkSightlineRepresentation(const vtkSightlineRepresentation&) = delete;
   void operator=(const vtkSightlineRepresentation&) = delete;
 };

@@ -5,12 +5,19 @@
  *
  * Settings are forwarded to its vtkSightlineTubeMapper (see there); everything shared by the Sightline
  * representations (colouring, opacity, transform, shadows) is in vtkSightlineRepresentation.
+ *
+ * Translucent tubes on several MPI ranks ask the view for ordered compositing: each rank then
+ * draws the union's surfaces inside its kd-tree region only, from every link reaching into the
+ * region, and IceT blends the ranks front to back (vtkSightlineRepresentation::DrawRegion).
+ * There a predecessor array's links are sent to the regions as two-point lines.
  */
 #ifndef vtkSightlineTubeRepresentation_h
 #define vtkSightlineTubeRepresentation_h
 
 #include "SightlineParaViewModule.h"
 #include "vtkSightlineRepresentation.h"
+
+#include <string> // for std::string
 
 class vtkSightlineTubeMapper;
 
@@ -35,10 +42,14 @@ public:
 protected:
   vtkSightlineTubeRepresentation();
   ~vtkSightlineTubeRepresentation() override;
+  bool NeedsOrderedCompositing() override;
+  vtkSmartPointer<vtkUnstructuredGrid> RegionCells(vtkDataObject* piece) override;
+  void DrawingRegionCells(bool on) override;
   vtkSightlineTubeMapper* GetTubeMapper();
   void UpdateVaryRadius();
   int VaryRadius = 2; // vtkSightlineTubeMapper::VARY_RADIUS_BY_ABSOLUTE_SCALAR
   bool HasRadiusArray = false;
+  std::string PredecessorArray;
 
 private:
   vtkSightlineTubeRepresentation(const vtkSightlineTubeRepresentation&) = delete;

@@ -5,6 +5,7 @@
 #include "vtkCellType.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -57,6 +58,14 @@ void vtkSightlineTubeRepresentation::UpdateVaryRadius()
   // not off; in ParaView "no radius array" means a constant radius.
   this->GetTubeMapper()->SetVaryRadius(
     this->HasRadiusArray ? this->VaryRadius : vtkSightlineTubeMapper::VARY_RADIUS_OFF);
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  if (this->HasRadiusArray && this->VaryRadius == vtkSightlineTubeMapper::VARY_RADIUS_BY_SCALAR &&
+    controller && controller->GetNumberOfProcesses() > 1)
+  {
+    vtkWarningMacro(<< "Vary Radius 'by scalar' maps each rank's own scalar range to radii, so on "
+                    << controller->GetNumberOfProcesses()
+                    << " ranks the tubes differ from one process; 'by absolute scalar' does not.");
+  }
 }
 
 void vtkSightlineTubeRepresentation::SetRadiusScale(double scale)

@@ -326,21 +326,34 @@ bool vtkSightlineRepresentation::GetOrderedCompositingRegion(vtkInformation* inI
   // One box per rank (ParaView 5.11 merges the kd-tree's leaves down to the rank count).
   const std::vector<vtkBoundingBox>& cuts = delivery->GetCuts();
   const int rank = controller->GetLocalProcessId();
-  if (static_cast<int>(cuts.size()) != controller->GetNumberOfProcesses() || !cuts[rank].IsValid())
+  if (static_cast<int>(cuts.size()) != controller->GetNumberOfProcesses())
   {
     return false;
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!cuts[rank].IsValid())
+  {
+    // No box for this rank (regions from bounds, this rank without data): it is sent nothing,
+    // and still takes part in the collective steps, so the decision stays the same everywhere.
+    for (int i = 0; i < 6; ++i)
+    {
+      region[i] = i % 2 ? inf : -inf;
+    }
+    return true;
   }
   vtkBoundingBox all;
   for (const vtkBoundingBox& cut : cuts)
   {
-    all.AddBox(cut);
+    if (cut.IsValid())
+    {
+      all.AddBox(cut);
+    }
   }
   double outer[6];
   all.GetBounds(outer);
   cuts[rank].GetBounds(region);
   // The cuts end at the load-balancing data's bounds; what lies beyond (a tube's radius, a
   // glyph) belongs to the region at that face.
-  const double inf = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 6; ++i)
   {
     if (region[i] == outer[i])

@@ -81,6 +81,16 @@ def mpi_record(source, folder, name, extra=""):
     return ProgrammableFilter(Input=source, Script=script, CopyArrays=1)
 
 
+def mpi_show(source, view, representation, **properties):
+    """`source` shown in `view` as a Sightline representation in solid colour, with `properties`."""
+    rep = Show(source, view)
+    rep.Representation = representation
+    rep.ColorArrayName = ["POINTS", ""]  # Solid Color
+    for name, value in properties.items():
+        setattr(rep, name, value)
+    return rep
+
+
 def mpi_make_view():
     return support.make_view(SIZE)
 
@@ -160,11 +170,7 @@ def mpi_translucent(args, view, reader, split):
     """Translucent tubes: the ranks' layers blended in visibility order (ordered compositing)."""
     # The reader's own pieces: runs of streamlines in file order, interleaved in space; the
     # representation sends every link to each region it reaches into.
-    rep = Show(reader, view)
-    rep.Representation = "Sightline Tubes"
-    rep.ColorArrayName = ["POINTS", ""]
-    rep.TubeRadius = 0.6
-    rep.Opacity = 0.4
+    rep = mpi_show(reader, view, "Sightline Tubes", TubeRadius=0.6, Opacity=0.4)
     mpi_save_view(view, args.output, "Translucent", rep)
     print(f"Translucent: rank 0's region {mpi_region(rep)}", flush=True)
     camera = mpi_border_camera(rep, args)
@@ -173,11 +179,7 @@ def mpi_translucent(args, view, reader, split):
     mpi_save_view(view, args.output, "TranslucentBelow", rep,
                   camera=(FOCAL_POINT, [22.0, 232.0, -164.0], [0.0, 0.0, 1.0]))
     # With opaque spheres in the same view: they are drawn by region too.
-    spheres = Show(split, view)
-    spheres.Representation = "Sightline Spheres"
-    spheres.ColorArrayName = ["POINTS", ""]
-    spheres.SphereRadius = 0.5
-    spheres.DiffuseColor = [0.9, 0.6, 0.3]
+    mpi_show(split, view, "Sightline Spheres", SphereRadius=0.5, DiffuseColor=[0.9, 0.6, 0.3])
     mpi_save_view(view, args.output, "TranslucentWithSpheres", rep)
     Hide(split, view)
     Hide(reader, view)
@@ -185,12 +187,8 @@ def mpi_translucent(args, view, reader, split):
     # A bifurcating tree (an SWC neuron, all of it on rank 0 as the SWC reader gives it) from its
     # predecessor array, crossing the regions' borders.
     neuron = OpenDataFile(args.swc)
-    rep = Show(neuron, view)
-    rep.Representation = "Sightline Tubes"
-    rep.ColorArrayName = ["POINTS", ""]
-    rep.TubeRadiusArray = ["POINTS", "Radius"]
-    rep.TubePredecessorArray = ["POINTS", "ParentIndex"]
-    rep.Opacity = 0.5
+    rep = mpi_show(neuron, view, "Sightline Tubes", TubeRadiusArray=["POINTS", "Radius"],
+                   TubePredecessorArray=["POINTS", "ParentIndex"], Opacity=0.5)
     for name, camera in (("TranslucentTree", ([-2.0, 2.0, 0.0], [-2.0, 2.0, 60.0], [0.0, 1.0, 0.0])),
                          ("TranslucentTreeSide", ([-2.0, 2.0, 0.0], [50.0, 20.0, 20.0], [0.0, 1.0, 0.0]))):
         mpi_save_view(view, args.output, name, rep, camera=camera)
@@ -218,10 +216,7 @@ def mpi_main():
     if args.bad_rank is not None:
         bad = mpi_record(split, args.output, "BadRadius",
                      BAD_RADIUS.format(radius=0.8, bad_rank=args.bad_rank))
-        rep = Show(bad, view)
-        rep.Representation = "Sightline Spheres"
-        rep.ColorArrayName = ["POINTS", ""]
-        rep.SphereRadiusArray = ["POINTS", "radius"]
+        rep = mpi_show(bad, view, "Sightline Spheres", SphereRadiusArray=["POINTS", "radius"])
         mpi_save_view(view, args.output, "BadRadius", rep)
         # The same points with the constant radius, for the driver's comparison.
         rep.SphereRadiusArray = ["POINTS", ""]
@@ -231,17 +226,11 @@ def mpi_main():
         return 0
 
     points = mpi_record(split, args.output, "Spheres")
-    rep = Show(points, view)
-    rep.Representation = "Sightline Spheres"
-    rep.ColorArrayName = ["POINTS", ""]  # Solid Color
-    rep.SphereRadius = 0.8
+    rep = mpi_show(points, view, "Sightline Spheres", SphereRadius=0.8)
     mpi_save_view(view, args.output, "Spheres", rep)
     Hide(points, view)
 
-    rep = Show(split, view)
-    rep.Representation = "Sightline Tubes"
-    rep.ColorArrayName = ["POINTS", ""]
-    rep.TubeRadius = 0.6
+    rep = mpi_show(split, view, "Sightline Tubes", TubeRadius=0.6)
     mpi_save_view(view, args.output, "Tubes", rep)
     Hide(split, view)
 
@@ -249,10 +238,7 @@ def mpi_main():
     # a cut link, both ending at the cut point, so the union is the same tube.
     cut = mpi_record(RedistributeDataSet(Input=reader, BoundaryMode="Split cells"), args.output,
                      "TubesSplit")
-    rep = Show(cut, view)
-    rep.Representation = "Sightline Tubes"
-    rep.ColorArrayName = ["POINTS", ""]
-    rep.TubeRadius = 0.6
+    rep = mpi_show(cut, view, "Sightline Tubes", TubeRadius=0.6)
     mpi_save_view(view, args.output, "TubesSplit", rep)
     Hide(cut, view)
 
@@ -268,20 +254,14 @@ def mpi_main():
     Hide(ranks, view)
 
     own = mpi_record(reader, args.output, "ReaderPieces")
-    rep = Show(own, view)
-    rep.Representation = "Sightline Spheres"
-    rep.ColorArrayName = ["POINTS", ""]
-    rep.SphereRadius = 0.8
+    rep = mpi_show(own, view, "Sightline Spheres", SphereRadius=0.8)
     mpi_save_view(view, args.output, "ReaderPieces", rep)
     Hide(own, view)
 
     mpi_translucent(args, view, reader, split)
 
     neuron = mpi_record(OpenDataFile(args.swc), args.output, "EmptyRanks")
-    rep = Show(neuron, view)
-    rep.Representation = "Sightline Spheres"
-    rep.ColorArrayName = ["POINTS", ""]
-    rep.SphereRadiusArray = ["POINTS", "Radius"]
+    rep = mpi_show(neuron, view, "Sightline Spheres", SphereRadiusArray=["POINTS", "Radius"])
     mpi_save_view(view, args.output, "EmptyRanks", rep,
                   camera=([0.0, 0.0, 0.0], [0.0, 0.0, 90.0], [0.0, 1.0, 0.0]))
     Delete(view)  # (left to exit, the view's window made Mesa report GLXBadContext)

@@ -104,6 +104,14 @@ vtkSmartPointer<vtkMultiBlockDataSet> AsMultiBlock(vtkDataObject* data)
 }
 }
 
+vtkSmartPointer<vtkUnstructuredGrid> vtkSightlineRepresentation::CellsOnPoints(vtkPointSet* leaf)
+{
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(leaf->GetPoints());
+  grid->GetPointData()->ShallowCopy(leaf->GetPointData());
+  return grid;
+}
+
 vtkSmartPointer<vtkUnstructuredGrid> vtkSightlineRepresentation::AppendedCells(vtkAppendFilter* append)
 {
   if (append->GetNumberOfInputConnections(0) == 0)
@@ -252,9 +260,7 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkSightlineRepresentation::RegionCells(vtk
     {
       continue;
     }
-    auto vertices = vtkSmartPointer<vtkUnstructuredGrid>::New();
-    vertices->SetPoints(leaf->GetPoints());
-    vertices->GetPointData()->ShallowCopy(leaf->GetPointData());
+    auto vertices = CellsOnPoints(leaf);
     vertices->Allocate(count);
     for (vtkIdType i = 0; i < count; ++i)
     {

@@ -139,6 +139,9 @@ protected:
    */
   virtual void DrawingRegionCells(bool vtkNotUsed(on)) {}
 
+  /// An unstructured grid on the points and point data of `leaf`, without cells yet.
+  static vtkSmartPointer<vtkUnstructuredGrid> CellsOnPoints(class vtkPointSet* leaf);
+
   /// The output of `append` (its inputs: the cells of each leaf), or an empty grid for none.
   static vtkSmartPointer<vtkUnstructuredGrid> AppendedCells(class vtkAppendFilter* append);
 

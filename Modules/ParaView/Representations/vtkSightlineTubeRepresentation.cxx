@@ -109,9 +109,7 @@ vtkSmartPointer<vtkUnstructuredGrid> vtkSightlineTubeRepresentation::RegionCells
     // are left out here (the mapper's own path reports them).
     const bool usePredecessors = predecessors && predecessors->GetNumberOfComponents() == 1 &&
       predecessors->GetNumberOfTuples() == count;
-    auto links = vtkSmartPointer<vtkUnstructuredGrid>::New();
-    links->SetPoints(leaf->GetPoints());
-    links->GetPointData()->ShallowCopy(leaf->GetPointData());
+    auto links = CellsOnPoints(leaf);
     if (usePredecessors)
     {
       links->Allocate(count);

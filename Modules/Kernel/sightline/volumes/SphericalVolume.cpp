@@ -106,6 +106,9 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
     return stats;
   }
 
+  const bool regionClipped = !(glm::all(glm::isinf(options.regionLower)) && glm::all(glm::isinf(options.regionUpper)) &&
+    glm::all(glm::lessThan(options.regionLower, dvec3(0.0))) && glm::all(glm::greaterThan(options.regionUpper, dvec3(0.0))));
+
   // Bands of rows one after another, so that progress is reported and a cancel takes effect.
   const int bands = options.progress ? std::min(camera.height(), 16) : 1;
   tbb::combinable<std::size_t> visited([] { return std::size_t(0); });
@@ -130,8 +133,16 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
             const std::size_t i = framebuffer.index(x, y);
             if (options.depthLimit && (*options.depthLimit)[i] < 1.0f)
               tmax = camera.primaryRayParameterAt(x + 0.5, y + 0.5, (*options.depthLimit)[i]);
+            double tmin = ray.tnear;
+            if (regionClipped)
+            {
+              const dvec3 worldOrigin = dvec3(options.objectToWorld * dvec4(o, 1.0));
+              const dvec3 worldDirection = glm::dmat3(options.objectToWorld) * d;
+              if (!clipToBox(worldOrigin, worldDirection, options.regionLower, options.regionUpper, tmin, tmax))
+                continue;
+            }
             double enter, leave;
-            if (!grid.clip(o, d, visibleRadius, ray.tnear, tmax, enter, leave))
+            if (!grid.clip(o, d, visibleRadius, tmin, tmax, enter, leave))
               continue;
             grid.traversal.traverse(o, d, enter, leave, segments);
             double first = -1.0;
@@ -425,6 +436,125 @@ std::vector<dvec3> cylindricalCellGradients(const CylindricalGrid& grid, const s
         gradients[grid.cellIndex(i, j, k)] = g;
       }
   return gradients;
+}
+
+namespace
+{
+
+// Inclusive range of the cells between breakpoints b that meet [low, high] (with a margin of
+// `slack`); false for none.
+bool cellsMeeting(const std::vector<double>& b, double low, double high, double slack, int& first, int& last)
+{
+  first = -1;
+  for (int i = 0; i + 1 < int(b.size()); ++i)
+    if (b[std::size_t(i) + 1] >= low - slack && b[std::size_t(i)] <= high + slack)
+    {
+      if (first < 0)
+        first = i;
+      last = i;
+    }
+  return first >= 0;
+}
+
+// Nearest and farthest distances from the z axis over the box's xy rectangle.
+void axisDistances(const dvec3& lower, const dvec3& upper, double& nearest, double& farthest)
+{
+  const glm::dvec2 lo(lower), hi(upper);
+  nearest = glm::length(glm::clamp(glm::dvec2(0.0), lo, hi));
+  farthest = glm::length(glm::max(glm::abs(lo), glm::abs(hi)));
+}
+
+// The azimuth cells meeting the box's xy rectangle: every cell when the rectangle holds the
+// axis or the cells it meets wrap around the grid's seam.
+bool azimuthCellsInBox(const std::vector<double>& azimuth, const dvec3& lower, const dvec3& upper, int& first, int& last)
+{
+  const int cells = int(azimuth.size()) - 1;
+  first = 0;
+  last = cells - 1;
+  if ((lower.x <= 0.0 && upper.x >= 0.0 && lower.y <= 0.0 && upper.y >= 0.0) ||
+    !std::isfinite(lower.x + upper.x + lower.y + upper.y))
+    return true;
+  // A rectangle off the axis spans less than pi seen from it: corner angles about its centre's.
+  const double centre = std::atan2(0.5 * (lower.y + upper.y), 0.5 * (lower.x + upper.x));
+  double low = 0.0, high = 0.0;
+  for (int corner = 0; corner < 4; ++corner)
+  {
+    const double x = corner & 1 ? upper.x : lower.x, y = corner & 2 ? upper.y : lower.y;
+    double a = std::atan2(y, x) - centre;
+    a -= kTwoPi * std::round(a / kTwoPi);
+    low = std::min(low, a);
+    high = std::max(high, a);
+  }
+  low += centre - 1e-12;
+  high += centre + 1e-12;
+  int count = 0;
+  first = -1;
+  for (int k = 0; k < cells; ++k)
+  {
+    bool meets = false;
+    for (int turn = -2; turn <= 2 && !meets; ++turn)
+      meets = azimuth[std::size_t(k) + 1] + turn * kTwoPi >= low && azimuth[std::size_t(k)] + turn * kTwoPi <= high;
+    if (meets)
+    {
+      if (first < 0)
+        first = k;
+      last = k;
+      ++count;
+    }
+  }
+  if (count == 0)
+    return false;
+  if (last - first + 1 != count)
+  {
+    first = 0; // around the seam of a full circle: not one run of indices
+    last = cells - 1;
+  }
+  return true;
+}
+
+bool isBox(const dvec3& lower, const dvec3& upper)
+{
+  return !glm::any(glm::isnan(lower)) && !glm::any(glm::isnan(upper)) &&
+    glm::all(glm::lessThanEqual(lower, upper));
+}
+} // namespace
+
+bool cellRangeInBox(const SphericalGrid& grid, const dvec3& lower, const dvec3& upper, int first[3], int last[3])
+{
+  if (!isBox(lower, upper))
+    return false;
+  const double scale = std::max(grid.radius.back(), 1e-300);
+  const double nearest = glm::length(glm::clamp(dvec3(0.0), lower, upper));
+  const double farthest = glm::length(glm::max(glm::abs(lower), glm::abs(upper)));
+  if (!cellsMeeting(grid.radius, nearest, farthest, 1e-12 * scale, first[0], last[0]))
+    return false;
+  double axisNear, axisFar;
+  axisDistances(lower, upper, axisNear, axisFar);
+  const double pi = 0.5 * kTwoPi;
+  double thetaLow = 0.0, thetaHigh = pi;
+  if (!(axisNear == 0.0 && lower.z <= 0.0 && upper.z >= 0.0))
+  {
+    // theta = atan2(rho, z) falls as z grows; it grows with rho above the equator and falls
+    // below it, and the box's (rho, z) are all pairs of its rho and z ranges.
+    thetaLow = upper.z > 0.0 ? std::atan2(axisNear, upper.z) : upper.z < 0.0 ? std::atan2(axisFar, upper.z) : 0.5 * pi;
+    thetaHigh = lower.z > 0.0 ? std::atan2(axisFar, lower.z) : lower.z < 0.0 ? std::atan2(axisNear, lower.z) : 0.5 * pi;
+  }
+  if (!cellsMeeting(grid.polar, thetaLow, thetaHigh, 1e-12, first[1], last[1]))
+    return false;
+  return azimuthCellsInBox(grid.azimuth, lower, upper, first[2], last[2]);
+}
+
+bool cellRangeInBox(const CylindricalGrid& grid, const dvec3& lower, const dvec3& upper, int first[3], int last[3])
+{
+  if (!isBox(lower, upper))
+    return false;
+  double axisNear, axisFar;
+  axisDistances(lower, upper, axisNear, axisFar);
+  const double scale = std::max(grid.radius.back(), 1e-300);
+  const double heightScale = std::max(std::abs(grid.height.front()), std::abs(grid.height.back()));
+  return cellsMeeting(grid.radius, axisNear, axisFar, 1e-12 * scale, first[0], last[0]) &&
+    azimuthCellsInBox(grid.azimuth, lower, upper, first[1], last[1]) &&
+    cellsMeeting(grid.height, lower.z, upper.z, 1e-12 * heightScale, first[2], last[2]);
 }
 
 std::vector<dvec3> cellCentres(const SphericalGrid& grid)

@@ -12,6 +12,7 @@
 #include "sightline/volumes/SphericalGrid.h"
 
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace sightline
@@ -23,6 +24,14 @@ struct SphericalVolumeOptions
   const std::vector<float>* depthLimit = nullptr;
   /// The march stops once the transmittance falls below this (early ray termination).
   double minimumTransmittance = 1e-3;
+  /// A box of world space (faces may be infinite) every ray is clipped to, half-open as
+  /// clipToBox: one MPI rank's region of a partition. Regions that tile space, blended front
+  /// to back, give the unclipped image (emission-absorption is multiplicative along the ray).
+  dvec3 regionLower{ -std::numeric_limits<double>::infinity() };
+  dvec3 regionUpper{ std::numeric_limits<double>::infinity() };
+  /// The grid's frame in world space, where the region is given (the camera maps the grid's
+  /// own coordinates); an affine map keeps the ray parameter.
+  dmat4 objectToWorld{ 1.0 };
   /// Called after each band of rows with the fraction done; returning false stops the frame
   /// (the rows not yet traced stay empty).
   std::function<bool(double)> progress;
@@ -75,6 +84,14 @@ SphericalVolumeStatistics renderSphericalVolumePoints(const SphericalTraversal& 
 SphericalVolumeStatistics renderCylindricalVolumePoints(const CylindricalTraversal& traversal,
   const std::vector<double>& pointValues, const TransferTable& transfer, double sampleDistance,
   const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options = {});
+
+/// The cells of `grid` that may meet the box [lower, upper] (in the grid's own coordinates),
+/// as inclusive index ranges first[axis]..last[axis] (r, theta, phi): a superset, from the
+/// ranges of r, theta and phi over the box (an azimuth range that wraps, or a box around the
+/// z axis, gives every phi cell). Returns false when no cell can meet the box.
+bool cellRangeInBox(const SphericalGrid& grid, const dvec3& lower, const dvec3& upper, int first[3], int last[3]);
+/// The same for a cylindrical grid (rho, phi, z).
+bool cellRangeInBox(const CylindricalGrid& grid, const dvec3& lower, const dvec3& upper, int first[3], int last[3]);
 
 /// Cartesian gradient of a cell-constant field at each cell centre, by central differences
 /// between neighbouring cells in r, theta and phi (one-sided at the section's edges, across

@@ -230,4 +230,19 @@ sightline::dvec3 ToLocalFrame(
   }
   return origin;
 }
+bool ToKernelRegion(vtkObject* reporter, const double region[6], sightline::dvec3& lower, sightline::dvec3& upper)
+{
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    if (!(region[2 * axis] <= region[2 * axis + 1]))
+    {
+      vtkErrorWithObjectMacro(reporter, << "The region's " << "xyz"[axis] << " range [" << region[2 * axis]
+                                        << ", " << region[2 * axis + 1] << "] is empty or not a number.");
+      return false;
+    }
+    lower[axis] = region[2 * axis];
+    upper[axis] = region[2 * axis + 1];
+  }
+  return true;
+}
 } // namespace SightlineKernelConversions

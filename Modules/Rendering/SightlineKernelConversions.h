@@ -72,4 +72,8 @@ sightline::dvec3 ToLocalFrame(
 /// A kernel progress callback that reports through `algorithm`'s ProgressEvent and stops
 /// when its AbortExecute is set.
 std::function<bool(double)> ProgressCallback(vtkAlgorithm* algorithm);
+
+/// A mapper's world region (xmin, xmax, ymin, ymax, zmin, zmax) as the kernel's box; false
+/// after reporting through `reporter` when a range is empty or NaN.
+bool ToKernelRegion(vtkObject* reporter, const double region[6], sightline::dvec3& lower, sightline::dvec3& upper);
 } // namespace SightlineKernelConversions

@@ -302,14 +302,10 @@ bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightColle
                   << height << " pixels.");
     return false;
   }
-  for (int axis = 0; axis < 3; ++axis)
+  sightline::dvec3 regionLower, regionUpper;
+  if (!SightlineKernelConversions::ToKernelRegion(this, this->Region, regionLower, regionUpper))
   {
-    if (!(this->Region[2 * axis] <= this->Region[2 * axis + 1]))
-    {
-      vtkErrorMacro(<< "The region's " << "xyz"[axis] << " range [" << this->Region[2 * axis]
-                    << ", " << this->Region[2 * axis + 1] << "] is empty or not a number.");
-      return false;
-    }
+    return false;
   }
   if (!this->Internals->WarnedPositionalLight &&
     SightlineKernelConversions::HasPositionalLight(lights))
@@ -340,8 +336,8 @@ bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightColle
   this->ConfigureRender(options);
   options.depthLimit = depthLimit;
   options.primitiveIds = selection;
-  options.regionLower = sightline::dvec3(this->Region[0], this->Region[2], this->Region[4]);
-  options.regionUpper = sightline::dvec3(this->Region[1], this->Region[3], this->Region[5]);
+  options.regionLower = regionLower;
+  options.regionUpper = regionUpper;
   const sightline::EmbreeScene* opaqueScene = in.Scene.get();
   if (translucent)
   {

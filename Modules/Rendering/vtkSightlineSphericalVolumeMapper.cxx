@@ -66,6 +66,18 @@ vtkStandardNewMacro(vtkSightlineSphericalVolumeMapper);
 vtkSightlineSphericalVolumeMapper::vtkSightlineSphericalVolumeMapper()
   : Internals(new vtkInternals)
 {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 6; ++i)
+  {
+    this->Region[i] = i % 2 ? inf : -inf;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineSphericalVolumeMapper::SetRegionToAllOfSpace()
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  this->SetRegion(-inf, inf, -inf, inf, -inf, inf);
 }
 
 //------------------------------------------------------------------------------
@@ -210,65 +222,23 @@ bool vtkSightlineSphericalVolumeMapper::UpdateScene()
   in.Gradients.clear();
   in.Centres.clear();
 
-  const double angleScale = this->AngleUnits == DEGREES ? vtkMath::Pi() / 180.0 : 1.0;
   const bool cylindrical = this->CoordinateSystem == CYLINDRICAL;
   const bool latitude = !cylindrical && this->PolarAngle == LATITUDE;
   sightline::SphericalGrid sphere;
   sightline::CylindricalGrid cylinder;
+  if (!this->ReadCoordinates(input, sphere, cylinder))
+  {
+    return false;
+  }
   int dims[3]; // cells along x, y, z of the input
   if (cylindrical)
   {
-    cylinder.radius = Coordinates(input->GetXCoordinates(), 1.0);
-    cylinder.azimuth = Coordinates(input->GetYCoordinates(), angleScale);
-    cylinder.height = Coordinates(input->GetZCoordinates(), 1.0);
-    try
-    {
-      cylinder.validate();
-    }
-    catch (const std::exception& e)
-    {
-      vtkErrorMacro(<< "The input is not a cylindrical grid (x = rho, y = azimuth in "
-                    << (this->AngleUnits == DEGREES ? "degrees" : "radians") << ", z = height): "
-                    << e.what());
-      return false;
-    }
     dims[0] = cylinder.radialCells();
     dims[1] = cylinder.azimuthalCells();
     dims[2] = cylinder.heightCells();
   }
   else
   {
-    sphere.radius = Coordinates(input->GetXCoordinates(), 1.0);
-    sphere.polar = Coordinates(input->GetYCoordinates(), angleScale);
-    sphere.azimuth = Coordinates(input->GetZCoordinates(), angleScale);
-    if (latitude)
-    {
-      // Colatitude = pi/2 - latitude reverses the order of the polar breakpoints and cells.
-      for (double& b : sphere.polar)
-      {
-        b = 0.5 * vtkMath::Pi() - b;
-      }
-      std::reverse(sphere.polar.begin(), sphere.polar.end());
-    }
-    // Degrees converted to radians may land a rounding error outside [0, pi].
-    for (double& b : sphere.polar)
-    {
-      if (std::abs(b) < 1e-12)
-        b = 0.0;
-      if (std::abs(b - vtkMath::Pi()) < 1e-12)
-        b = vtkMath::Pi();
-    }
-    try
-    {
-      sphere.validate();
-    }
-    catch (const std::exception& e)
-    {
-      vtkErrorMacro(<< "The input is not a spherical grid (x = r, y = "
-                    << (latitude ? "latitude" : "colatitude") << ", z = azimuth, angles in "
-                    << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "): " << e.what());
-      return false;
-    }
     dims[0] = sphere.radialCells();
     dims[1] = sphere.polarCells();
     dims[2] = sphere.azimuthalCells();
@@ -387,6 +357,120 @@ bool vtkSightlineSphericalVolumeMapper::UpdateScene()
 }
 
 //------------------------------------------------------------------------------
+bool vtkSightlineSphericalVolumeMapper::ReadCoordinates(
+  vtkRectilinearGrid* input, sightline::SphericalGrid& sphere, sightline::CylindricalGrid& cylinder)
+{
+  const double angleScale = this->AngleUnits == DEGREES ? vtkMath::Pi() / 180.0 : 1.0;
+  const bool latitude = this->CoordinateSystem != CYLINDRICAL && this->PolarAngle == LATITUDE;
+  if (this->CoordinateSystem == CYLINDRICAL)
+  {
+    cylinder.radius = Coordinates(input->GetXCoordinates(), 1.0);
+    cylinder.azimuth = Coordinates(input->GetYCoordinates(), angleScale);
+    cylinder.height = Coordinates(input->GetZCoordinates(), 1.0);
+    try
+    {
+      cylinder.validate();
+    }
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< "The input is not a cylindrical grid (x = rho, y = azimuth in "
+                    << (this->AngleUnits == DEGREES ? "degrees" : "radians") << ", z = height): "
+                    << e.what());
+      return false;
+    }
+    return true;
+  }
+  sphere.radius = Coordinates(input->GetXCoordinates(), 1.0);
+  sphere.polar = Coordinates(input->GetYCoordinates(), angleScale);
+  sphere.azimuth = Coordinates(input->GetZCoordinates(), angleScale);
+  if (latitude)
+  {
+    // Colatitude = pi/2 - latitude reverses the order of the polar breakpoints and cells.
+    for (double& b : sphere.polar)
+    {
+      b = 0.5 * vtkMath::Pi() - b;
+    }
+    std::reverse(sphere.polar.begin(), sphere.polar.end());
+  }
+  // Degrees converted to radians may land a rounding error outside [0, pi].
+  for (double& b : sphere.polar)
+  {
+    if (std::abs(b) < 1e-12)
+      b = 0.0;
+    if (std::abs(b - vtkMath::Pi()) < 1e-12)
+      b = vtkMath::Pi();
+  }
+  try
+  {
+    sphere.validate();
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "The input is not a spherical grid (x = r, y = "
+                  << (latitude ? "latitude" : "colatitude") << ", z = azimuth, angles in "
+                  << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "): " << e.what());
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineSphericalVolumeMapper::ComputeSectionBounds(vtkRectilinearGrid* grid, double bounds[6])
+{
+  sightline::SphericalGrid sphere;
+  sightline::CylindricalGrid cylinder;
+  vtkMath::UninitializeBounds(bounds);
+  if (!grid || !this->ReadCoordinates(grid, sphere, cylinder))
+  {
+    return false;
+  }
+  if (this->CoordinateSystem == CYLINDRICAL)
+  {
+    SectionBounds(cylinder, bounds);
+  }
+  else
+  {
+    SectionBounds(sphere, bounds);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox(
+  vtkRectilinearGrid* grid, const double box[6], int cellRange[6])
+{
+  sightline::SphericalGrid sphere;
+  sightline::CylindricalGrid cylinder;
+  if (!grid || !this->ReadCoordinates(grid, sphere, cylinder))
+  {
+    return false;
+  }
+  const sightline::dvec3 lower(box[0], box[2], box[4]), upper(box[1], box[3], box[5]);
+  int first[3], last[3];
+  const bool any = this->CoordinateSystem == CYLINDRICAL
+    ? sightline::cellRangeInBox(cylinder, lower, upper, first, last)
+    : sightline::cellRangeInBox(sphere, lower, upper, first, last);
+  if (!any)
+  {
+    return false;
+  }
+  if (this->CoordinateSystem != CYLINDRICAL && this->PolarAngle == LATITUDE)
+  {
+    // The kernel's polar cells run from the north pole; latitude input from the south.
+    const int n = sphere.polarCells();
+    std::swap(first[1], last[1]);
+    first[1] = n - 1 - first[1];
+    last[1] = n - 1 - last[1];
+  }
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    cellRange[2 * axis] = first[axis];
+    cellRange[2 * axis + 1] = last[axis];
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
 double vtkSightlineSphericalVolumeMapper::AutomaticSampleDistance()
 {
   // Half the thinnest radial cell: layers are what radial grids resolve.
@@ -437,6 +521,11 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkProp3D* prop, vtkCamera* cam
   {
     vtkErrorMacro(<< "The depth limit has " << depthLimit->size() << " values for " << width
                   << "x" << height << " pixels.");
+    return false;
+  }
+  sightline::dvec3 regionLower, regionUpper;
+  if (!SightlineKernelConversions::ToKernelRegion(this, this->Region, regionLower, regionUpper))
+  {
     return false;
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
@@ -505,6 +594,9 @@ bool vtkSightlineSphericalVolumeMapper::RayTrace(vtkProp3D* prop, vtkCamera* cam
     sightline::SphericalVolumeOptions options;
     options.depthLimit = depthLimit;
     options.minimumTransmittance = this->MinimumTransmittance;
+    options.regionLower = regionLower;
+    options.regionUpper = regionUpper;
+    options.objectToWorld = objectToWorld;
     options.progress = SightlineKernelConversions::ProgressCallback(this);
     sightline::SphericalVolumeStatistics stats;
     if (!in.PointValues.empty() && this->InterpolatePointData && !property->GetShade(0))
@@ -571,6 +663,8 @@ void vtkSightlineSphericalVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "AngleUnits: " << (this->AngleUnits == DEGREES ? "degrees" : "radians") << "\n";
+  os << indent << "Region: " << this->Region[0] << " " << this->Region[1] << " " << this->Region[2]
+     << " " << this->Region[3] << " " << this->Region[4] << " " << this->Region[5] << "\n";
   os << indent << "PolarAngle: " << (this->PolarAngle == LATITUDE ? "latitude" : "colatitude")
      << "\n";
   os << indent << "MinimumTransmittance: " << this->MinimumTransmittance << "\n";

@@ -69,6 +69,8 @@ namespace sightline
 {
 class Framebuffer;
 class SphericalTraversal;
+struct SphericalGrid;
+struct CylindricalGrid;
 }
 #endif
 
@@ -174,6 +176,37 @@ public:
   double GetInteractiveUpdateRate();
   ///@}
 
+  ///@{
+  /**
+   * The box of world space this mapper draws: xmin, xmax, ymin, ymax, zmin, zmax, faces
+   * possibly infinite. Every ray is clipped to it, so that each MPI rank draws only its region
+   * of a partition and the ranks' images, blended front to back in the regions' visibility
+   * order, give the one-process image (vtkSightlineSphericalVolumeRepresentation sets it under
+   * ParaView's ordered compositing). Default: all of space. A NaN or a min above its max is an
+   * error, and nothing is drawn.
+   */
+  vtkSetVector6Macro(Region, double);
+  vtkGetVector6Macro(Region, double);
+  void SetRegionToAllOfSpace();
+  ///@}
+
+  /**
+   * The box (xmin, xmax, ymin, ymax, zmin, zmax) around the section that `grid`'s coordinates
+   * describe with this mapper's settings (CoordinateSystem, AngleUnits, PolarAngle), in the
+   * grid's own coordinates; only the coordinates are read. False, after an error naming the
+   * problem, when they are no such grid.
+   */
+  bool ComputeSectionBounds(vtkRectilinearGrid* grid, double bounds[6]);
+
+  /**
+   * The cells of `grid` (read as ComputeSectionBounds does) that may meet `box` (in the grid's
+   * own coordinates), as inclusive ranges of cell indices along the grid's x, y and z:
+   * cellRange = { i0, i1, j0, j1, k0, k1 }. A superset (from the ranges of r, theta and phi, or
+   * rho, phi and z, over the box), so that a rank drawing `box` needs no other cell. False when
+   * no cell can meet the box, or after an error for a grid that is no such grid.
+   */
+  bool ComputeCellRangeInBox(vtkRectilinearGrid* grid, const double box[6], int cellRange[6]);
+
   /**
    * Seconds the last frame took, and the cell segments it composited.
    */
@@ -218,6 +251,7 @@ protected:
   int AngleUnits = RADIANS;
   int PolarAngle = COLATITUDE;
   double MinimumTransmittance = 0.002;
+  double Region[6];
   double LastFrameSeconds = 0.0;
   vtkIdType LastCellsVisited = 0;
 
@@ -227,6 +261,13 @@ private:
 
   // Half the thinnest radial cell, when SampleDistance is 0.
   double AutomaticSampleDistance();
+
+#ifndef __VTK_WRAP__
+  // The input's coordinates as a kernel grid of the kind CoordinateSystem says (the other is
+  // left empty); false after an error naming what is wrong.
+  bool ReadCoordinates(
+    vtkRectilinearGrid* input, sightline::SphericalGrid& sphere, sightline::CylindricalGrid& cylinder);
+#endif
 
 #ifndef __VTK_WRAP__
   // SightlineTracer, for the window frame and vtkSightlineImageRenderer.

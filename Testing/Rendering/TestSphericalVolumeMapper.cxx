@@ -15,6 +15,8 @@
 #include "vtkCellData.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDoubleArray.h"
+#include "vtkExtractRectilinearGrid.h"
+#include "vtkTransform.h"
 #include "vtkFloatArray.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -293,6 +295,139 @@ TEST(SphericalVolumeMapper, AngleConventionsAgree)
   vtkSmartPointer<vtkImageData> converted = RenderVolumeWithoutGL(scene.volume, {}, camera, 80, 80);
   EXPECT_LE(MaxRGBDifference(reference, converted), 1);
   EXPECT_GT(CoveredPixels(reference), 1000);
+}
+
+// Two MPI ranks' share of a volume, as vtkSightlineSphericalVolumeRepresentation makes them:
+// each half of space draws only the cells ComputeCellRangeInBox gives for its box (moved into
+// the grid's own frame by the volume's matrix), clipped to the half (SetRegion, in world
+// space); the front half's image over the back half's is the whole image.
+TEST(SphericalVolumeMapper, RegionHalvesOfTheirCellsBlendToTheWholeImage)
+{
+  VolumeScene scene;
+  scene.source->SetFieldToPREMDensity();
+  scene.source->SetAzimuthRange(0.5 * kPi, 2.5 * kPi); // the seam on +y, away from the cut
+  scene.source->Update();
+  scene.color->RemoveAllPoints();
+  scene.color->AddRGBPoint(1.0, 0.1, 0.2, 0.9);
+  scene.color->AddRGBPoint(13.1, 1.0, 0.9, 0.2);
+  scene.opacity->RemoveAllPoints();
+  scene.opacity->AddPoint(1.0, 0.1);
+  scene.opacity->AddPoint(13.1, 0.5);
+  scene.property->ShadeOn(); // the shading gradients need the neighbours of every cell drawn
+  vtkNew<vtkTransform> placement; // a matrix that is not the identity: regions are in world space
+  placement->Translate(0.4, -0.3, 0.2);
+  placement->RotateZ(90.0); // boxes stay boxes in the grid's frame
+  placement->Scale(1.2, 1.2, 1.2);
+  scene.volume->SetUserTransform(placement);
+  auto camera = MakeCamera(false, 5.0);
+  camera->SetFocalPoint(0.4, -0.3, 0.2);
+  camera->SetPosition(-3.0, 1.5, 2.0);
+  camera->SetClippingRange(1.0, 9.0);
+  const int size = 96;
+  sightline::Framebuffer whole;
+  ASSERT_TRUE(scene.mapper->RayTrace(scene.volume, camera, nullptr, size, size, whole));
+
+  vtkRectilinearGrid* grid = scene.source->GetOutput();
+  const int* dims = grid->GetDimensions();
+  const double cut = 0.55, inf = std::numeric_limits<double>::infinity();
+  const double halves[2][6] = { { -inf, cut, -inf, inf, -inf, inf }, { cut, inf, -inf, inf, -inf, inf } };
+  sightline::Framebuffer parts[2];
+  vtkIdType heldCells[2] = { 0, 0 };
+  for (int h = 0; h < 2; ++h)
+  {
+    // The half's box around the volume, its corners in the grid's frame.
+    double world[6];
+    scene.volume->GetBounds(world);
+    world[0] = std::max(world[0], halves[h][0]);
+    world[1] = std::min(world[1], halves[h][1]);
+    double box[6] = { inf, -inf, inf, -inf, inf, -inf };
+    vtkNew<vtkTransform> toGrid;
+    toGrid->SetMatrix(scene.volume->GetMatrix());
+    toGrid->Inverse();
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      double p[3] = { world[corner & 1 ? 1 : 0], world[corner & 2 ? 3 : 2], world[corner & 4 ? 5 : 4] };
+      toGrid->TransformPoint(p, p);
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        box[2 * axis] = std::min(box[2 * axis], p[axis]);
+        box[2 * axis + 1] = std::max(box[2 * axis + 1], p[axis]);
+      }
+    }
+    int range[6];
+    ASSERT_TRUE(scene.mapper->ComputeCellRangeInBox(grid, box, range));
+    // One cell more on each side (the gradients' neighbours), clamped to the grid; every phi
+    // when the range reaches the seam of the full circle (the neighbours across it).
+    if (range[4] == 0 || range[5] == dims[2] - 2)
+    {
+      range[4] = 0;
+      range[5] = dims[2] - 2;
+    }
+    vtkNew<vtkExtractRectilinearGrid> extract;
+    extract->SetInputData(grid);
+    extract->SetVOI(std::max(range[0] - 1, 0), std::min(range[1] + 2, dims[0] - 1), std::max(range[2] - 1, 0),
+      std::min(range[3] + 2, dims[1] - 1), std::max(range[4] - 1, 0), std::min(range[5] + 2, dims[2] - 1));
+    extract->Update();
+    heldCells[h] = extract->GetOutput()->GetNumberOfCells();
+    scene.mapper->SetInputConnection(extract->GetOutputPort());
+    scene.mapper->SetRegion(const_cast<double*>(halves[h]));
+    ASSERT_TRUE(scene.mapper->RayTrace(scene.volume, camera, nullptr, size, size, parts[h]));
+  }
+  // The camera is at x < cut: every ray crosses the lower half first.
+  int covered = 0, both = 0;
+  for (std::size_t i = 0; i < whole.pixelCount(); ++i)
+  {
+    const sightline::vec4 front = parts[0].Color[i], back = parts[1].Color[i], expected = whole.Color[i];
+    const float alpha = front.a + (1.0f - front.a) * back.a;
+    ASSERT_NEAR(alpha, expected.a, 2.5e-3f) << "pixel " << i; // early ray termination at 0.002
+    if (expected.a == 0.0f)
+      continue;
+    ++covered;
+    both += front.a > 0.0f && back.a > 0.0f;
+    const sightline::vec3 blended =
+      front.a * sightline::vec3(front) + (1.0f - front.a) * back.a * sightline::vec3(back);
+    EXPECT_NEAR(glm::length(blended - expected.a * sightline::vec3(expected)), 0.0f, 2.5e-3f) << "pixel " << i;
+  }
+  EXPECT_GT(covered, 3000);
+  EXPECT_GT(both, 1000);
+  EXPECT_LT(heldCells[0] + heldCells[1], 2 * grid->GetNumberOfCells()) << "each half holds less than the whole";
+  std::printf("%d covered pixels, %d with layers in both halves; the halves hold %lld and %lld of %lld cells\n",
+    covered, both, static_cast<long long>(heldCells[0]), static_cast<long long>(heldCells[1]),
+    static_cast<long long>(grid->GetNumberOfCells()));
+
+  // Latitude input lists its polar cells from the south: the range follows.
+  vtkNew<vtkRectilinearGrid> latitude;
+  latitude->SetDimensions(dims[0], dims[1], dims[2]);
+  latitude->SetXCoordinates(grid->GetXCoordinates());
+  latitude->SetZCoordinates(grid->GetZCoordinates());
+  vtkNew<vtkDoubleArray> latitudes;
+  for (int j = dims[1] - 1; j >= 0; --j)
+    latitudes->InsertNextValue(0.5 * kPi - grid->GetYCoordinates()->GetComponent(j, 0));
+  latitude->SetYCoordinates(latitudes);
+  const double cap[6] = { -0.2, 0.3, 0.1, 0.5, 0.6, 1.0 };
+  int colatitudeRange[6], latitudeRange[6];
+  ASSERT_TRUE(scene.mapper->ComputeCellRangeInBox(grid, cap, colatitudeRange));
+  scene.mapper->SetPolarAngleToLatitude();
+  ASSERT_TRUE(scene.mapper->ComputeCellRangeInBox(latitude, cap, latitudeRange));
+  EXPECT_EQ(latitudeRange[2], dims[1] - 2 - colatitudeRange[3]);
+  EXPECT_EQ(latitudeRange[3], dims[1] - 2 - colatitudeRange[2]);
+  EXPECT_LT(colatitudeRange[3], dims[1] / 2) << "a cap near the north pole";
+  double bounds[6];
+  EXPECT_TRUE(scene.mapper->ComputeSectionBounds(latitude, bounds));
+  EXPECT_NEAR(bounds[5], grid->GetXCoordinates()->GetRange()[1], 1e-9);
+
+  // Bad regions and grids are reported by name.
+  vtkNew<MessageCollector> messages;
+  messages->Observe(scene.mapper);
+  scene.mapper->SetPolarAngleToColatitude();
+  scene.mapper->SetInputConnection(scene.source->GetOutputPort());
+  scene.mapper->SetRegion(0.0, 1.0, 2.0, std::nan(""), -inf, inf);
+  EXPECT_FALSE(scene.mapper->RayTrace(scene.volume, camera, nullptr, size, size, whole));
+  EXPECT_TRUE(messages->Contains("region's y range"));
+  EXPECT_FALSE(scene.mapper->ComputeCellRangeInBox(latitude, cap, latitudeRange));
+  EXPECT_TRUE(messages->Contains("not a spherical grid"));
+  scene.mapper->SetRegionToAllOfSpace();
+  EXPECT_TRUE(scene.mapper->RayTrace(scene.volume, camera, nullptr, size, size, whole));
 }
 
 // PREM grids: every layer boundary is a breakpoint and cells hold PREM's density at their

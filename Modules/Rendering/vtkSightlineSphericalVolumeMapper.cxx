@@ -437,7 +437,7 @@ bool vtkSightlineSphericalVolumeMapper::ComputeSectionBounds(vtkRectilinearGrid*
 
 //------------------------------------------------------------------------------
 bool vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox(
-  vtkRectilinearGrid* grid, const double box[6], int cellRange[6])
+  vtkRectilinearGrid* grid, const double box[6], int cellRange[6], int margin)
 {
   sightline::SphericalGrid sphere;
   sightline::CylindricalGrid cylinder;
@@ -453,6 +453,24 @@ bool vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox(
   if (!any)
   {
     return false;
+  }
+  const bool cylindrical = this->CoordinateSystem == CYLINDRICAL;
+  const int cells[3] = { cylindrical ? cylinder.radialCells() : sphere.radialCells(),
+    cylindrical ? cylinder.azimuthalCells() : sphere.polarCells(),
+    cylindrical ? cylinder.heightCells() : sphere.azimuthalCells() };
+  const int azimuthAxis = cylindrical ? 1 : 2;
+  const bool fullCircle = cylindrical ? cylinder.fullCircle() : sphere.fullCircle();
+  margin = std::max(margin, 0);
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    if (axis == azimuthAxis && fullCircle && (first[axis] - margin < 0 || last[axis] + margin >= cells[axis]))
+    {
+      first[axis] = 0; // the neighbours across the seam: not one run of indices
+      last[axis] = cells[axis] - 1;
+      continue;
+    }
+    first[axis] = std::max(first[axis] - margin, 0);
+    last[axis] = std::min(last[axis] + margin, cells[axis] - 1);
   }
   if (this->CoordinateSystem != CYLINDRICAL && this->PolarAngle == LATITUDE)
   {

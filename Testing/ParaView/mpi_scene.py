@@ -196,6 +196,45 @@ def mpi_translucent(args, view, reader, split):
     Hide(neuron, view)
 
 
+def mpi_volume(args, view):
+    """A spherical volume on several ranks: PREM's density with a strong lateral perturbation
+    (structure on both sides of every border), a wedge cut out. The ranks split the section's
+    box into one box each, each rank receives the cells that may meet its box, and IceT blends
+    the boxes' images in visibility order (ordered compositing)."""
+    import paraview.simple as simple
+    source = simple.SightlineSphericalField()
+    source.Field = "PREM Density"
+    source.RadialResolution = 24
+    source.PolarResolution = 24
+    source.AzimuthalResolution = 48
+    source.PerturbationAmplitude = 0.6
+    source.AzimuthRange = [0.0, 4.71238898038469]
+    rep = Show(source, view)
+    rep.Representation = "Sightline Spherical Volume"
+    ColorBy(rep, ("CELLS", "density"))
+    GetColorTransferFunction("density").ApplyPreset("Inferno (matplotlib)", True)
+    rep.RescaleTransferFunctionToDataRange(True)
+    rep.ScalarOpacityUnitDistance = 0.3
+    representation = rep.GetClientSideObject().GetActiveRepresentation()
+    mapper = representation.GetSphericalVolumeMapper()
+    for name, camera in (
+            ("Volume", ([0.0, 0.0, 0.0], [3.2, -2.4, 1.8], [0.0, 0.0, 1.0])),
+            # Every ray in the plane x = 0, the border of the 2- and 4-rank boxes.
+            ("VolumeBorder", ([0.0, 0.0, 0.0], [0.0, -3.6, 1.2], [1.0, 0.0, 0.0])),
+            ("VolumeBelow", ([0.0, 0.0, 0.0], [-2.6, 2.2, -2.4], [0.0, 0.0, 1.0]))):
+        mpi_save_view(view, args.output, name, camera=camera)
+        if name == "Volume":
+            rep.Shade = 1  # the shading gradients need each cell's neighbours
+            mpi_save_view(view, args.output, "VolumeShaded", camera=camera)
+            rep.Shade = 0
+    piece = representation.GetInputDataObject(0, 0)
+    drawn = mapper.GetInputDataObject(0, 0)
+    print(f"Volume: rank 0's piece {piece.GetNumberOfCells() if piece else 0} cells, drew "
+          f"{drawn.GetNumberOfCells() if drawn else 0} cells in the region {mapper.GetRegion()}",
+          flush=True)
+    Hide(source, view)
+
+
 def mpi_main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
@@ -259,6 +298,7 @@ def mpi_main():
     Hide(own, view)
 
     mpi_translucent(args, view, reader, split)
+    mpi_volume(args, view)
 
     neuron = mpi_record(OpenDataFile(args.swc), args.output, "EmptyRanks")
     rep = mpi_show(neuron, view, "Sightline Spheres", SphereRadiusArray=["POINTS", "Radius"])

@@ -54,7 +54,10 @@ TOLERANCE = 0.001  # fraction of pixels allowed to differ by more than 24/255 (o
 # Translucent scenes: IceT blends the ranks' 8-bit premultiplied images, one rounding per rank.
 TRANSLUCENT_TOLERANCE = 0.0005  # fraction of pixels allowed to differ by more than 8/255
 TRANSLUCENT = ("Translucent", "TranslucentBorder", "TranslucentBelow", "TranslucentWithSpheres",
-               "TranslucentTree", "TranslucentTreeSide")
+               "TranslucentTree", "TranslucentTreeSide",
+               # A spherical volume cut into one box per rank; VolumeBorder looks along x = 0,
+               # the plane between the 2- and 4-rank boxes.
+               "Volume", "VolumeShaded", "VolumeBorder", "VolumeBelow")
 RUN_TIMEOUT = 120
 BACKGROUND = np.round(np.array([0.1, 0.1, 0.15]) * 255).astype(int)
 
@@ -120,7 +123,7 @@ def check_ranks(trk):
     # 2 ranks first: that run finds the plane between its ranks' regions for the border camera.
     folders = {n: os.path.join(TEMP, f"np{n}") for n in (2, 1, 4)}
     border_camera = os.path.join(folders[2], "border_camera.json")
-    rank0, regions = {}, {}
+    rank0, regions, volume = {}, {}, {}
     for n, folder in folders.items():
         result = run(n, folder, trk, *(["--border-camera", border_camera] if n != 2 else []))
         if not checks.expect(result.returncode == 0, f"mpirun -np {n} pvbatch failed"):
@@ -129,6 +132,8 @@ def check_ranks(trk):
                       f"{n} ranks reported errors:\n" + "\n".join(errors(result.stdout)))
         rank0[n] = traced(result.stdout)
         regions[n] = re.findall(r"^Translucent: rank 0's region \((.*)\)", result.stdout, re.MULTILINE)
+        volume[n] = re.findall(r"^Volume: rank 0's piece (\d+) cells, drew (\d+) cells in the "
+                               r"region \((.*)\)", result.stdout, re.MULTILINE)
         # Each rank traces its own piece: rank 0's mapper gets rank 0's piece, not the gathered
         # whole (the view did not move the geometry to one process).
         for name in ("Spheres", "TubesSplit", "ReaderPieces", "EmptyRanks"):
@@ -200,6 +205,22 @@ def check_ranks(trk):
         if n > 1:
             checks.expect(0 < rank0[n]["Translucent"][1] < rank0[1]["Translucent"][1],
                           f"{n} ranks: rank 0 did not draw a part of the streamlines")
+    # The spherical volume: rank 0 holds a piece of the grid (by extent) and draws the cells of
+    # its box (received from the ranks that hold them), each less than the whole grid.
+    grid_cells = int(volume[1][0][0]) if volume[1] else 0
+    for n in (1, 2, 4):
+        if not checks.expect(len(volume[n]) == 1, f"{n} ranks: no spherical volume report"):
+            continue
+        piece, drawn = int(volume[n][0][0]), int(volume[n][0][1])
+        region = [float(v) for v in volume[n][0][2].split(",")]
+        finite = [v for v in region if np.isfinite(v)]
+        print(f"spherical volume, {n} ranks: rank 0's piece {piece} of {grid_cells} cells, it "
+              f"drew {drawn} cells in its region {region}")
+        if n == 1:
+            checks.expect(piece == drawn > 0 and not finite, "1 rank: not the whole grid")
+        else:
+            checks.expect(0 < piece < grid_cells and 0 < drawn < grid_cells and finite,
+                          f"{n} ranks: rank 0 held or drew the whole grid, or no region")
     for name in TRANSLUCENT:
         reference = image(folders[1], name)
         share = float(np.mean(covered(reference)))

@@ -9,9 +9,20 @@
  * as for ParaView's own "Volume". The grid's coordinates are read as spherical or cylindrical
  * ones by the vtkSightlineSphericalVolumeMapper this forwards to.
  *
- * On several MPI ranks, rank 0 traces the whole grid and the other ranks ask for nothing:
- * translucent pieces need compositing in visibility order, which IceT's depth compositing is
- * not.
+ * On several MPI ranks the view blends the ranks' images in visibility order (ParaView's
+ * ordered compositing) and each rank draws one box of space:
+ * - each rank asks for its piece of the grid as ParaView splits structured data (by extent);
+ * - the ranks assemble the whole grid's breakpoints (not its values) and cut the section's
+ *   world box into one box per rank (recursive halving along the longest side, the same on
+ *   every rank), which they give the view as their ordered-compositing bounds;
+ * - every rank receives from the others the cells that may meet its box
+ *   (vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox, a conservative (r, theta, phi)
+ *   range, one cell wider for the shading gradients) and draws them with every ray clipped to
+ *   its box (the outer faces at infinity).
+ * A ray's emission and absorption over the boxes it crosses, blended front to back, are those
+ * of the whole ray, so the image is the one-process image; no rank holds the whole grid. This
+ * is redone only when a piece, the coordinate settings or the actor's matrix change. Pieces
+ * that do not cover the grid (or bad coordinates) are reported, and nothing is drawn.
  */
 #ifndef vtkSightlineSphericalVolumeRepresentation_h
 #define vtkSightlineSphericalVolumeRepresentation_h
@@ -19,6 +30,8 @@
 #include "SightlineParaViewModule.h"
 #include "vtkSmartPointer.h"
 #include "vtkVolumeRepresentation.h"
+
+#include <vector> // for std::vector
 
 class vtkSightlineSphericalVolumeMapper;
 
@@ -54,8 +67,6 @@ protected:
   ~vtkSightlineSphericalVolumeRepresentation() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
   bool AddToView(vtkView* view) override;
@@ -63,6 +74,18 @@ protected:
 
   vtkSmartPointer<vtkSightlineSphericalVolumeMapper> Mapper;
   vtkSmartPointer<vtkDataObject> Cache;
+  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 }; ///< the pipeline's whole extent of the grid
+  double SampleDistance = 0.0;                  ///< as set; 0: the whole grid's automatic one
+
+  /// On several ranks: this rank's box of a partition of the section (all ranks together,
+  /// collective) and the cells that may meet it, gathered from the ranks' pieces into
+  /// RegionGrid. Returns whether the partition is valid (the same answer on every rank).
+  bool Partition();
+  vtkSmartPointer<vtkDataObject> RegionGrid;
+  double RegionBox[6];      ///< this rank's box, finite
+  double Region[6];         ///< the same with the faces on the partition's outside at infinity
+  bool Partitioned = false; ///< RegionGrid and the boxes are valid
+  std::vector<double> PartitionKey; ///< what the partition was made from, to redo it on change
 
 private:
   vtkSightlineSphericalVolumeRepresentation(

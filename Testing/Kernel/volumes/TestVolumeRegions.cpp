@@ -164,6 +164,16 @@ TEST(VolumeRegions, CellRangeInBoxHoldsTheCellOfEveryPointInTheBox)
       upper.x = std::abs(upper.x) + 0.01;
       lower.x = -upper.x;
     }
+    if (trial % 7 == 3) // boxes with a face on the axis, as a partition's halves have
+    {
+      lower.x = 0.0;
+      upper.x = std::max(upper.x, 0.1);
+    }
+    if (trial % 11 == 5)
+    {
+      lower.y = std::min(lower.y, -0.1);
+      upper.y = 0.0;
+    }
     if (trial % 20 == 0)
     {
       upper.z = std::abs(upper.z) + 0.01;
@@ -209,6 +219,20 @@ TEST(VolumeRegions, CellRangeInBoxHoldsTheCellOfEveryPointInTheBox)
   }
   // Not every box gets every cell: the ranges are what makes a rank's piece smaller.
   EXPECT_GT(tight, 100);
+  // The half x <= 0 of a ball, a face on the axis: only the azimuths in [pi/2, 3pi/2], not the
+  // cell that merely touches the face at -pi/2 (the seam of this grid, at -pi, is inside).
+  {
+    const SphericalGrid ball = sphericalSections()[0];
+    std::array<int, 6> range{};
+    ASSERT_TRUE(rangeInBox(ball, dvec3(-1.0), dvec3(0.0, 1.0, 1.0), range));
+    const SphericalGrid wedge{ ball.radius, ball.polar, { 0.0, 0.5 * kPi, kPi, 1.5 * kPi } };
+    ASSERT_TRUE(rangeInBox(wedge, dvec3(0.0, -1.0, -1.0), dvec3(1.0), range));
+    EXPECT_EQ(range[4], 0); // x >= 0 holds [0, pi/2]; the cell [pi, 3pi/2] only touches x = 0
+    EXPECT_EQ(range[5], 0);
+    ASSERT_TRUE(rangeInBox(wedge, dvec3(-1.0), dvec3(0.0, 1.0, 1.0), range));
+    EXPECT_EQ(range[4], 1);
+    EXPECT_EQ(range[5], 2);
+  }
   // A box beyond the outer shell, and a NaN box, meet no cell.
   int first[3], last[3];
   EXPECT_FALSE(cellRangeInBox(sphericalSections()[0], dvec3(1.2), dvec3(2.0), first, last));

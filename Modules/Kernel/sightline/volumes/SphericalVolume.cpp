@@ -464,52 +464,63 @@ void axisDistances(const dvec3& lower, const dvec3& upper, double& nearest, doub
   farthest = glm::length(glm::max(glm::abs(lo), glm::abs(hi)));
 }
 
-// The azimuth cells meeting the box's xy rectangle: every cell when the rectangle holds the
-// axis or the cells it meets wrap around the grid's seam.
+// The azimuth cells meeting the box's xy rectangle: every cell when the axis runs through the
+// rectangle's inside, or when the cells it meets wrap around the grid's seam. A cell that only
+// touches the rectangle's angles (a shared face, to 1e-12) is left out when others overlap
+// them: what lies in a face is a sliver without volume.
 bool azimuthCellsInBox(const std::vector<double>& azimuth, const dvec3& lower, const dvec3& upper, int& first, int& last)
 {
   const int cells = int(azimuth.size()) - 1;
   first = 0;
   last = cells - 1;
-  if ((lower.x <= 0.0 && upper.x >= 0.0 && lower.y <= 0.0 && upper.y >= 0.0) ||
+  if ((lower.x < 0.0 && upper.x > 0.0 && lower.y < 0.0 && upper.y > 0.0) ||
     !std::isfinite(lower.x + upper.x + lower.y + upper.y))
     return true;
-  // A rectangle off the axis spans less than pi seen from it: corner angles about its centre's.
+  // Seen from the axis (outside the rectangle or on its edge) the rectangle spans at most pi:
+  // its corners' angles about its centre's bound it.
   const double centre = std::atan2(0.5 * (lower.y + upper.y), 0.5 * (lower.x + upper.x));
   double low = 0.0, high = 0.0;
   for (int corner = 0; corner < 4; ++corner)
   {
     const double x = corner & 1 ? upper.x : lower.x, y = corner & 2 ? upper.y : lower.y;
+    if (x == 0.0 && y == 0.0)
+      continue; // a corner on the axis has every angle, and its edges give the rectangle's
     double a = std::atan2(y, x) - centre;
     a -= kTwoPi * std::round(a / kTwoPi);
     low = std::min(low, a);
     high = std::max(high, a);
   }
-  low += centre - 1e-12;
-  high += centre + 1e-12;
-  int count = 0;
-  first = -1;
-  for (int k = 0; k < cells; ++k)
+  low += centre;
+  high += centre;
+  for (const double slack : { -1e-12, 1e-12 })
   {
-    bool meets = false;
-    for (int turn = -2; turn <= 2 && !meets; ++turn)
-      meets = azimuth[std::size_t(k) + 1] + turn * kTwoPi >= low && azimuth[std::size_t(k)] + turn * kTwoPi <= high;
-    if (meets)
+    // First the cells that overlap the angles by more than 1e-12, else those that touch them.
+    int count = 0;
+    first = -1;
+    for (int k = 0; k < cells; ++k)
     {
-      if (first < 0)
-        first = k;
-      last = k;
-      ++count;
+      bool meets = false;
+      for (int turn = -2; turn <= 2 && !meets; ++turn)
+        meets = std::min(azimuth[std::size_t(k) + 1] + turn * kTwoPi, high) -
+            std::max(azimuth[std::size_t(k)] + turn * kTwoPi, low) > -slack;
+      if (meets)
+      {
+        if (first < 0)
+          first = k;
+        last = k;
+        ++count;
+      }
     }
+    if (count == 0)
+      continue;
+    if (last - first + 1 != count)
+    {
+      first = 0; // around the seam of a full circle: not one run of indices
+      last = cells - 1;
+    }
+    return true;
   }
-  if (count == 0)
-    return false;
-  if (last - first + 1 != count)
-  {
-    first = 0; // around the seam of a full circle: not one run of indices
-    last = cells - 1;
-  }
-  return true;
+  return false;
 }
 
 bool isBox(const dvec3& lower, const dvec3& upper)
@@ -531,14 +542,11 @@ bool cellRangeInBox(const SphericalGrid& grid, const dvec3& lower, const dvec3& 
   double axisNear, axisFar;
   axisDistances(lower, upper, axisNear, axisFar);
   const double pi = 0.5 * kTwoPi;
-  double thetaLow = 0.0, thetaHigh = pi;
-  if (!(axisNear == 0.0 && lower.z <= 0.0 && upper.z >= 0.0))
-  {
-    // theta = atan2(rho, z) falls as z grows; it grows with rho above the equator and falls
-    // below it, and the box's (rho, z) are all pairs of its rho and z ranges.
-    thetaLow = upper.z > 0.0 ? std::atan2(axisNear, upper.z) : upper.z < 0.0 ? std::atan2(axisFar, upper.z) : 0.5 * pi;
-    thetaHigh = lower.z > 0.0 ? std::atan2(axisFar, lower.z) : lower.z < 0.0 ? std::atan2(axisNear, lower.z) : 0.5 * pi;
-  }
+  // theta = atan2(rho, z) falls as z grows; it grows with rho above the equator and falls
+  // below it, and the box's (rho, z) are all pairs of its rho and z ranges (z = 0 is the
+  // equator, the origin aside).
+  const double thetaLow = upper.z > 0.0 ? std::atan2(axisNear, upper.z) : upper.z < 0.0 ? std::atan2(axisFar, upper.z) : 0.5 * pi;
+  const double thetaHigh = lower.z > 0.0 ? std::atan2(axisFar, lower.z) : lower.z < 0.0 ? std::atan2(axisNear, lower.z) : 0.5 * pi;
   if (!cellsMeeting(grid.polar, thetaLow, thetaHigh, 1e-12, first[1], last[1]))
     return false;
   return azimuthCellsInBox(grid.azimuth, lower, upper, first[2], last[2]);

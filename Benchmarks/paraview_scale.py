@@ -11,10 +11,11 @@ Per rank:
             streamlines), shown as opaque Sightline Tubes at --size: piece points/links, geometry
             and BVH bytes (vtkSightlineMapper::GetGeometryMemoryBytes/GetBVHMemoryBytes), the
             geometry and BVH build seconds, and each frame's trace seconds (GetLastFrameSeconds);
-  grid      the Sightline Spherical Field source (PREM Density) at --grid resolution, only updated
-            (UpdatePipeline, each rank its own sub-extent) and measured, never rendered: the
-            Sightline Spherical Volume representation asks rank 0 for the whole grid until
-            visibility-ordered compositing exists, so a grid's rendering does not scale yet;
+  grid      the Sightline Spherical Field source (PREM Density) at --grid resolution: each rank's
+            sub-extent (UpdatePipeline) measured, then drawn as a Sightline Spherical Volume
+            (the tubes hidden): each rank draws the cells of its box (ordered compositing), so
+            the cells it holds for drawing, their bytes, the first volume frame (the partition
+            and the cells' exchange included) and the steady frames' trace are recorded;
   rss       peak RSS (ru_maxrss) after ParaView and the plugin are loaded (the constant part), after
             the tubes' first frame, and at the end (after the grid).
 On rank 0 also: each frame's wall time (Render(), which returns after IceT has composited), the
@@ -32,9 +33,12 @@ import os
 import resource
 import time
 
+import numpy as np
 import paraview.simple as pvs
 from paraview.simple import (CreateView, Delete, LoadPlugin, OpenDataFile, Render, SaveScreenshot,
                              SetActiveView, Show)
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 import sightline  # noqa: F401  (wraps the mappers' getters)
 
@@ -140,9 +144,6 @@ def scale_main():
     path = os.path.join(args.output, "tubes.png")
     SaveScreenshot(path, view, ImageResolution=list(args.size), TransparentBackground=0)
     if rank == 0:
-        from vtkmodules.vtkIOImage import vtkPNGReader
-        from vtkmodules.util.numpy_support import vtk_to_numpy
-        import numpy as np
         png = vtkPNGReader()
         png.SetFileName(path)
         png.Update()
@@ -161,6 +162,40 @@ def scale_main():
         grid_points, grid_cells, grid_bytes = scale_piece(grid)
         record.update({"grid_points": grid_points, "grid_cells": grid_cells,
                        "grid_bytes": grid_bytes})
+        rep.Visibility = 0
+        volume = Show(grid, view)
+        volume.Representation = "Sightline Spherical Volume"
+        pvs.ColorBy(volume, ("CELLS", "density"))
+        pvs.GetColorTransferFunction("density").ApplyPreset("Inferno (matplotlib)", True)
+        volume.RescaleTransferFunctionToDataRange(True)
+        volume.ScalarOpacityUnitDistance = 0.3
+        started = time.perf_counter()
+        scale_set_camera(view, [0.0, 0.0, 0.0], 3.6, 0.0)
+        Render(view)
+        record["volume_first_seconds"] = time.perf_counter() - started
+        volume_mapper = volume.GetClientSideObject().GetActiveRepresentation().GetSphericalVolumeMapper()
+        drawn = volume_mapper.GetInputDataObject(0, 0)
+        record.update({"volume_cells": drawn.GetNumberOfCells() if drawn else 0,
+                       "volume_bytes": drawn.GetActualMemorySize() * 1024 if drawn else 0})
+        volume_frames, volume_traces = [], []
+        for frame in range(args.frames):
+            scale_set_camera(view, [0.0, 0.0, 0.0], 3.6, 5.0 * (frame + 1))
+            started = time.perf_counter()
+            Render(view)
+            volume_frames.append(time.perf_counter() - started)
+            volume_traces.append(volume_mapper.GetLastFrameSeconds())
+        record["volume_frame_seconds"] = volume_frames
+        record["volume_trace_seconds"] = volume_traces
+        path = os.path.join(args.output, "volume.png")
+        SaveScreenshot(path, view, ImageResolution=list(args.size), TransparentBackground=0)
+        if rank == 0:
+            png = vtkPNGReader()
+            png.SetFileName(path)
+            png.Update()
+            image = png.GetOutput()
+            w, h, _ = image.GetDimensions()
+            pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+            np.save(os.path.join(args.output, "volume.npy"), pixels)
     record["rss_end"] = scale_rss_bytes()
     with open(os.path.join(args.output, f"{rank}.json"), "w") as stream:
         json.dump(record, stream, indent=1)

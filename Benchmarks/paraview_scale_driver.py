@@ -154,7 +154,7 @@ def main():
     print(f"cores: {os.cpu_count()}", flush=True)
 
     rows, runs = [], []
-    images = {}
+    images, volume_images = {}, {}
     for case in args.cases:
         for ranks in args.ranks:
             streamlines = (args.strong_streamlines if case == "strong"
@@ -168,6 +168,9 @@ def main():
             records = run(args, ranks, tck, grid, folder)
             image = np.load(os.path.join(folder, "tubes.npy")).astype(int)
             images[case, ranks] = image
+            volume_image = os.path.join(folder, "volume.npy")
+            if os.path.exists(volume_image):
+                volume_images[case, ranks] = np.load(volume_image).astype(int)
             trace_per_frame = np.max([r["trace_seconds"] for r in records], axis=0)
             frame_per_frame = np.asarray(records[0]["frame_seconds"])
             trace = float(np.median(trace_per_frame))
@@ -193,6 +196,14 @@ def main():
                     "grid_cells": r.get("grid_cells", ""), "grid_points": r.get("grid_points", ""),
                     "grid_mib": r["grid_bytes"] / MIB if "grid_bytes" in r else "",
                     "grid_s": r.get("grid_seconds", ""),
+                    "volume_cells": r.get("volume_cells", ""),
+                    "volume_mib": r["volume_bytes"] / MIB if "volume_bytes" in r else "",
+                    "volume_trace_s": (float(np.median(r["volume_trace_seconds"]))
+                                       if r.get("volume_trace_seconds") else ""),
+                    "volume_frame_s": (float(np.median(r["volume_frame_seconds"]))
+                                       if r["rank"] == 0 and r.get("volume_frame_seconds") else ""),
+                    "volume_first_frame_s": (r.get("volume_first_seconds", "")
+                                             if r["rank"] == 0 else ""),
                     "distributed": r["distributed"],
                 })
             runs.append({"case": case, "ranks": ranks, "records": records, "trace": trace,
@@ -208,7 +219,8 @@ def main():
     width, height = args.size
     lines = [f"Sightline Tubes (opaque, radius {args.radius}) from a .tck of {args.points}-point "
              f"streamlines, {width}x{height}, {args.frames} steady frames (medians); "
-             f"PREM Density grid only updated (not rendered). cores: {os.cpu_count()}.", "",
+             f"PREM Density grid drawn as a Sightline Spherical Volume after the tubes (each rank "
+             f"the cells of its box; ordered compositing). cores: {os.cpu_count()}.", "",
              "| case | ranks | links/rank (max) | geometry+BVH MiB/rank (max) | bytes/link | "
              "piece MiB/rank (max) | peak RSS MiB/rank (max; loaded) | geometry+BVH build s (max) "
              "| trace s (slowest) | compositing s | frame s | first frame s | grid cells/rank "
@@ -236,6 +248,26 @@ def main():
             f"{run_['trace']:.3f} | {run_['compositing']:.3f} | {run_['frame']:.3f} | "
             f"{records[0]['first_frame_seconds']:.2f} | {grid_cells} | {grid_mib:.1f} | "
             f"{comparison} |")
+    lines += ["", "| case | ranks | grid cells | volume cells drawn/rank (max) | volume MiB/rank "
+              "(max) | volume trace s (slowest) | volume frame s | volume first frame s | "
+              "volume image vs 1 rank |", "|---|---|---|---|---|---|---|---|---|"]
+    for run_ in runs:
+        records = run_["records"]
+        if "volume_cells" not in records[0]:
+            continue
+        comparison = ""
+        key = (run_["case"], run_["ranks"])
+        if run_["case"] == "strong" and ("strong", 1) in volume_images and run_["ranks"] != 1:
+            diff = np.abs(volume_images[key] - volume_images["strong", 1]).max(axis=2)
+            comparison = (f"{np.mean(diff > 8):.4%} (>8/255), {np.mean(diff > 2):.4%} (>2/255), "
+                          f"{diff.max()}/255 at most")
+        trace = float(np.median(np.max([r["volume_trace_seconds"] for r in records], axis=0)))
+        lines.append(
+            f"| {run_['case']} | {run_['ranks']} | {sum(r['grid_cells'] for r in records)} | "
+            f"{max(r['volume_cells'] for r in records)} | "
+            f"{max(r['volume_bytes'] for r in records) / MIB:.1f} | {trace:.3f} | "
+            f"{float(np.median(records[0]['volume_frame_seconds'])):.3f} | "
+            f"{records[0]['volume_first_seconds']:.2f} | {comparison} |")
     strong = [r for r in runs if r["case"] == "strong"]
     if len(strong) >= 2:
         ns = [r["ranks"] for r in strong]
@@ -244,7 +276,8 @@ def main():
         for label, key in (("geometry + BVH", lambda r: r["geometry_bytes"] + r["bvh_bytes"]),
                            ("piece (VTK poly data)", lambda r: r["piece_bytes"]),
                            ("peak RSS after the tubes", lambda r: r["rss_tubes"]),
-                           ("grid piece", lambda r: r.get("grid_bytes", 0))):
+                           ("grid piece", lambda r: r.get("grid_bytes", 0)),
+                           ("volume cells drawn", lambda r: r.get("volume_bytes", 0))):
             values = [max(key(rec) for rec in r["records"]) / MIB for r in strong]
             constant, slope, residual = fit_inverse(ns, values)
             measured = ", ".join(f"{v:.1f}" for v in values)

@@ -3,7 +3,8 @@
 (200 streamlines of 20 points, 320x240, an 8x8x16 grid, 1 and 2 ranks, strong scaling only) runs
 and writes scale.csv and scale.md; the CSV has one row per rank for 1 and 2 ranks, and each rank
 of the 2-rank run holds strictly fewer points, links, geometry + BVH bytes and grid cells than the
-1-rank run, the pieces adding up to the whole. Timings are written, never checked.
+1-rank run, the pieces adding up to the whole; a rank draws fewer volume cells than the whole
+grid. Timings are written, never checked.
 
 Environment (Testing/ParaView/CMakeLists.txt): SIGHTLINE_PVBATCH, SIGHTLINE_MPIRUN,
 SIGHTLINE_PLUGIN, SIGHTLINE_TEST_TEMP_DIR, PYTHONPATH, LD_LIBRARY_PATH, DISPLAY.
@@ -53,6 +54,14 @@ def main():
         expect(all(0 < c < int(whole[key]) for c in counts),
                f"{key}: a 2-rank piece is empty or not smaller than the whole")
         expect(sum(counts) == int(whole[key]), f"{key}: the 2 pieces do not add up to the whole")
+    # The volume: each rank draws the cells that may meet its box. On 2 ranks the full sphere is
+    # cut at x = 0, and the half x > 0 holds the azimuth seam (phi = 0): a wrapping range of
+    # azimuths, which that rank takes whole. The other rank draws fewer cells than the grid.
+    drawn = [int(r["volume_cells"]) for r in two]
+    print(f"volume cells drawn: 1 rank {whole['volume_cells']}, 2 ranks {drawn}")
+    expect(int(whole["volume_cells"]) == int(whole["grid_cells"]), "1 rank did not draw the grid")
+    expect(all(0 < c <= int(whole["grid_cells"]) for c in drawn) and
+           min(drawn) < int(whole["grid_cells"]), "a rank drew no volume cells, or both all")
     for key in ("geometry_mib", "bvh_mib"):
         values = [float(r[key]) for r in two]
         print(f"{key}: 1 rank {whole[key]}, 2 ranks {values}")

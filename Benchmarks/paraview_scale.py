@@ -166,8 +166,11 @@ def scale_main():
         volume = Show(grid, view)
         volume.Representation = "Sightline Spherical Volume"
         pvs.ColorBy(volume, ("CELLS", "density"))
-        pvs.GetColorTransferFunction("density").ApplyPreset("Inferno (matplotlib)", True)
-        volume.RescaleTransferFunctionToDataRange(True)
+        # One fixed range: with --symmetric each rank would rescale to its own piece's range.
+        lut = pvs.GetColorTransferFunction("density")
+        lut.ApplyPreset("Inferno (matplotlib)", True)
+        lut.RescaleTransferFunction(1.0, 13.1)
+        pvs.GetOpacityTransferFunction("density").RescaleTransferFunction(1.0, 13.1)
         volume.ScalarOpacityUnitDistance = 0.3
         started = time.perf_counter()
         scale_set_camera(view, [0.0, 0.0, 0.0], 3.6, 0.0)

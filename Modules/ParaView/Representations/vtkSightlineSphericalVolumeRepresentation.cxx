@@ -299,7 +299,8 @@ bool vtkSightlineSphericalVolumeRepresentation::Partition()
 
   // Redo the partition when any rank's piece, the coordinate settings or the matrix changed.
   std::vector<double> key{ double(piece ? piece->GetMTime() : 0), double(this->Mapper->GetCoordinateSystem()),
-    double(this->Mapper->GetAngleUnits()), double(this->Mapper->GetPolarAngle()), this->SampleDistance };
+    double(this->Mapper->GetAngleUnits()), double(this->Mapper->GetPolarAngle()), this->SampleDistance,
+    double(this->Property->GetShade(0)) };
   vtkMatrix4x4* matrix = this->Actor->GetMatrix();
   key.insert(key.end(), &matrix->GetData()[0], &matrix->GetData()[0] + 16);
   const int localStale = key != this->PartitionKey ? 1 : 0;
@@ -385,13 +386,15 @@ bool vtkSightlineSphericalVolumeRepresentation::Partition()
   SplitBox(world, 0, ranks, boxes);
   vtkNew<vtkMatrix4x4> worldToGrid;
   vtkMatrix4x4::Invert(matrix, worldToGrid);
-  // Each rank's cells: those that may meet its box, one wider for the shading gradients.
+  // Each rank's cells: those that may meet its box, one wider when shading reads the gradients
+  // (a margin across a full circle's seam takes every azimuth).
+  const int margin = this->Property->GetShade(0) ? 1 : 0;
   std::vector<std::array<int, 6>> needed(static_cast<std::size_t>(ranks));
   for (int r = 0; r < ranks; ++r)
   {
     int range[6];
     needed[r] = { 0, -1, 0, -1, 0, -1 };
-    if (this->Mapper->ComputeCellRangeInBox(wholeGrid, MovedBox(worldToGrid, boxes[r]).data(), range, 1))
+    if (this->Mapper->ComputeCellRangeInBox(wholeGrid, MovedBox(worldToGrid, boxes[r]).data(), range, margin))
     {
       for (int axis = 0; axis < 3; ++axis)
       {
@@ -584,6 +587,7 @@ void vtkSightlineSphericalVolumeRepresentation::SetInputArrayToProcess(
 void vtkSightlineSphericalVolumeRepresentation::SetShade(bool shade)
 {
   this->Property->SetShade(shade);
+  this->MarkModified(); // on several ranks shading needs each cell's neighbours
 }
 
 void vtkSightlineSphericalVolumeRepresentation::SetCoordinateSystem(int system)

@@ -17,8 +17,8 @@
  *   every rank), which they give the view as their ordered-compositing bounds;
  * - every rank receives from the others the cells that may meet its box
  *   (vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox, a conservative (r, theta, phi)
- *   range, one cell wider for the shading gradients) and draws them with every ray clipped to
- *   its box (the outer faces at infinity).
+ *   range, one cell wider when shading reads the gradients) and draws them with every ray
+ *   clipped to its box (the outer faces at infinity).
  * A ray's emission and absorption over the boxes it crosses, blended front to back, are those
  * of the whole ray, so the image is the one-process image; no rank holds the whole grid. This
  * is redone only when a piece, the coordinate settings or the actor's matrix change. Pieces

@@ -67,6 +67,21 @@ def scale_piece(proxy):
     return data.GetNumberOfPoints(), data.GetNumberOfCells(), data.GetActualMemorySize() * 1024
 
 
+def scale_save_image(view, args, rank, name):
+    """NAME.png of the view and, on rank 0 (which holds the composited image), NAME.npy for the
+    driver's comparison with the 1-rank image."""
+    path = os.path.join(args.output, f"{name}.png")
+    SaveScreenshot(path, view, ImageResolution=list(args.size), TransparentBackground=0)
+    if rank == 0:
+        png = vtkPNGReader()
+        png.SetFileName(path)
+        png.Update()
+        image = png.GetOutput()
+        w, h, _ = image.GetDimensions()
+        pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+        np.save(os.path.join(args.output, f"{name}.npy"), pixels)
+
+
 def scale_set_camera(view, center, distance, angle_degrees):
     a = math.radians(angle_degrees)
     view.CameraFocalPoint = list(center)
@@ -141,16 +156,7 @@ def scale_main():
     record["trace_seconds"] = traces
 
     # The image of the last frame's camera, for the driver (rank 0 holds the composited image).
-    path = os.path.join(args.output, "tubes.png")
-    SaveScreenshot(path, view, ImageResolution=list(args.size), TransparentBackground=0)
-    if rank == 0:
-        png = vtkPNGReader()
-        png.SetFileName(path)
-        png.Update()
-        image = png.GetOutput()
-        w, h, _ = image.GetDimensions()
-        pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
-        np.save(os.path.join(args.output, "tubes.npy"), pixels)
+    scale_save_image(view, args, rank, "tubes")
 
     if all(args.grid):
         grid = pvs.SightlineSphericalField(Field="PREM Density", RadialResolution=args.grid[0],
@@ -189,16 +195,7 @@ def scale_main():
             volume_traces.append(volume_mapper.GetLastFrameSeconds())
         record["volume_frame_seconds"] = volume_frames
         record["volume_trace_seconds"] = volume_traces
-        path = os.path.join(args.output, "volume.png")
-        SaveScreenshot(path, view, ImageResolution=list(args.size), TransparentBackground=0)
-        if rank == 0:
-            png = vtkPNGReader()
-            png.SetFileName(path)
-            png.Update()
-            image = png.GetOutput()
-            w, h, _ = image.GetDimensions()
-            pixels = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
-            np.save(os.path.join(args.output, "volume.npy"), pixels)
+        scale_save_image(view, args, rank, "volume")
     record["rss_end"] = scale_rss_bytes()
     with open(os.path.join(args.output, f"{rank}.json"), "w") as stream:
         json.dump(record, stream, indent=1)

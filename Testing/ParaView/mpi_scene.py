@@ -202,17 +202,8 @@ def mpi_volume(args, view):
     box into one box each, each rank receives the cells that may meet its box, and IceT blends
     the boxes' images in visibility order (ordered compositing)."""
     import paraview.simple as simple
-    source = simple.SightlineSphericalField()
-    source.Field = "PREM Density"
-    source.RadialResolution = 24
-    source.PolarResolution = 24
-    source.AzimuthalResolution = 48
+    source, rep = support.show_prem(view, simple.SightlineSphericalField)
     source.PerturbationAmplitude = 0.6
-    source.AzimuthRange = [0.0, 4.71238898038469]
-    rep = Show(source, view)
-    rep.Representation = "Sightline Spherical Volume"
-    ColorBy(rep, ("CELLS", "density"))
-    GetColorTransferFunction("density").ApplyPreset("Inferno (matplotlib)", True)
     rep.RescaleTransferFunctionToDataRange(True)
     rep.ScalarOpacityUnitDistance = 0.3
     representation = rep.GetClientSideObject().GetActiveRepresentation()

@@ -15,6 +15,10 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
 
+#include "sightline/core/Framebuffer.h"
+
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <iostream>
@@ -201,5 +205,23 @@ void ViewSingleGlyph(vtkRenderer* renderer)
   camera->ParallelProjectionOn();
   camera->SetParallelScale(1.15);
   renderer->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
+}
+void ExpectFrontOverBackIsWhole(const sightline::Framebuffer& front, const sightline::Framebuffer& back,
+  const sightline::Framebuffer& whole, float alphaTolerance, float colourTolerance, int& covered, int& both)
+{
+  covered = both = 0;
+  for (std::size_t i = 0; i < whole.pixelCount(); ++i)
+  {
+    const sightline::vec4 f = front.Color[i], b = back.Color[i], expected = whole.Color[i];
+    const float alpha = f.a + (1.0f - f.a) * b.a;
+    ASSERT_NEAR(alpha, expected.a, alphaTolerance) << "pixel " << i;
+    if (expected.a == 0.0f)
+      continue;
+    ++covered;
+    both += f.a > 0.0f && b.a > 0.0f;
+    const sightline::vec3 blended = f.a * sightline::vec3(f) + (1.0f - f.a) * b.a * sightline::vec3(b);
+    EXPECT_NEAR(glm::length(blended - expected.a * sightline::vec3(expected)), 0.0f, colourTolerance)
+      << "pixel " << i;
+  }
 }
 } // namespace sightline_test

@@ -17,6 +17,11 @@
 #include <string>
 #include <vector>
 
+namespace sightline
+{
+class Framebuffer;
+}
+
 class vtkCamera;
 
 namespace sightline_test
@@ -49,6 +54,13 @@ int MaxRGBDifference(vtkImageData* a, vtkImageData* b, int* differingPixels = nu
 /// Compares an image with Testing/Data/Baseline/<name>.png using vtkTesting's regression
 /// metric; a missing baseline fails and leaves the image in Testing/Temporary/.
 bool MatchesBaseline(vtkImageData* image, const std::string& name, double threshold);
+
+/// Two regions' images (the one every ray crosses first, then the other) blended front to
+/// back ("over") must be `whole`: opacity within `alphaTolerance` at every pixel, premultiplied
+/// colour within `colourTolerance` where `whole` is covered. Counts the covered pixels and
+/// those with layers in both regions.
+void ExpectFrontOverBackIsWhole(const sightline::Framebuffer& front, const sightline::Framebuffer& back,
+  const sightline::Framebuffer& whole, float alphaTolerance, float colourTolerance, int& covered, int& both);
 
 /// Collects the error and warning messages VTK objects emit while it observes them.
 /// A glyph mapper in an actor (ambient 0.15, specular 0.4, power 40) in an offscreen window

@@ -319,19 +319,7 @@ TEST(TubeMapper, RegionHalvesBlendToTheWholeTranslucentImage)
   ASSERT_TRUE(scene.mapper->RayTrace(scene.actor, camera, nullptr, 160, 120, right));
   // The camera is at x < cut: every ray crosses the left half first.
   int covered = 0, both = 0;
-  for (std::size_t i = 0; i < whole.pixelCount(); ++i)
-  {
-    const sightline::vec4 front = left.Color[i], back = right.Color[i], expected = whole.Color[i];
-    const float alpha = front.a + (1.0f - front.a) * back.a;
-    ASSERT_NEAR(alpha, expected.a, 1e-5f) << "pixel " << i;
-    if (expected.a == 0.0f)
-      continue;
-    ++covered;
-    both += front.a > 0.0f && back.a > 0.0f;
-    const sightline::vec3 blended =
-      front.a * sightline::vec3(front) + (1.0f - front.a) * back.a * sightline::vec3(back);
-    EXPECT_NEAR(glm::length(blended - expected.a * sightline::vec3(expected)), 0.0f, 1e-4f) << "pixel " << i;
-  }
+  ExpectFrontOverBackIsWhole(left, right, whole, 1e-5f, 1e-4f, covered, both);
   EXPECT_GT(covered, 1000);
   EXPECT_GT(both, 50);
 

@@ -10,6 +10,8 @@
 #include "sightline/spheres/SphereSet.h"
 #include "sightline/tubes/TubeSet.h"
 
+#include "RegionBlend.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -384,27 +386,11 @@ TEST(TubeTransparency, RegionImagesBlendedInVisibilityOrderGiveTheWholeImage)
     for (int py = 0; py < camera.height(); ++py)
       for (int px = 0; px < camera.width(); ++px)
       {
-        // Convex regions: the ray meets them in the order of its entry into each.
-        const DoubleRay ray = camera.doublePrimaryRay(px + 0.5, py + 0.5);
-        std::vector<std::pair<double, std::size_t>> order;
-        for (std::size_t r = 0; r < regions.size(); ++r)
-        {
-          double t0 = ray.tnear, t1 = ray.tfar;
-          if (clipToBox(ray.origin, ray.direction, regions[r][0], regions[r][1], t0, t1))
-            order.emplace_back(t0, r);
-        }
-        std::sort(order.begin(), order.end());
         const std::size_t i = whole.index(px, py);
-        vec3 premultiplied(0.0f);
-        float alpha = 0.0f;
-        int contributing = 0;
-        for (const auto& entry : order)
-        {
-          const vec4 c = parts[entry.second].Color[i];
-          premultiplied += (1.0f - alpha) * c.a * vec3(c);
-          alpha += (1.0f - alpha) * c.a;
-          contributing += c.a > 0.0f;
-        }
+        const sightline_test::RegionBlend blend = sightline_test::blendRegionsInRayOrder(regions, parts, camera, px, py);
+        const vec3 premultiplied = blend.premultiplied;
+        const float alpha = blend.alpha;
+        const int contributing = blend.contributing;
         const vec4 expected = whole.Color[i];
         ASSERT_NEAR(alpha, expected.a, 1e-5f) << "pixel " << px << ", " << py;
         if (expected.a == 0.0f)

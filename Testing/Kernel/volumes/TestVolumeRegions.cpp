@@ -5,6 +5,8 @@
 // blended front to back in ray order must be the image of the whole grid.
 #include "sightline/volumes/SphericalVolume.h"
 
+#include "RegionBlend.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -85,7 +87,7 @@ std::vector<T> subValues(const Grid& grid, const std::vector<T>& values, const s
   return out;
 }
 
-// Front-to-back "over" of the regions' images in the order each pixel's ray enters them.
+// The regions' images blended in ray order against the whole image.
 void expectBlendIsWhole(const std::vector<std::array<dvec3, 2>>& regions, const std::vector<Framebuffer>& parts,
   const Framebuffer& whole, const Camera& camera, float colourTolerance, int& covered, int& split)
 {
@@ -93,26 +95,11 @@ void expectBlendIsWhole(const std::vector<std::array<dvec3, 2>>& regions, const 
   for (int py = 0; py < camera.height(); ++py)
     for (int px = 0; px < camera.width(); ++px)
     {
-      const DoubleRay ray = camera.doublePrimaryRay(px + 0.5, py + 0.5);
-      std::vector<std::pair<double, std::size_t>> order;
-      for (std::size_t r = 0; r < regions.size(); ++r)
-      {
-        double t0 = ray.tnear, t1 = ray.tfar;
-        if (clipToBox(ray.origin, ray.direction, regions[r][0], regions[r][1], t0, t1))
-          order.emplace_back(t0, r);
-      }
-      std::sort(order.begin(), order.end());
       const std::size_t i = whole.index(px, py);
-      vec3 premultiplied(0.0f);
-      float alpha = 0.0f;
-      int contributing = 0;
-      for (const auto& entry : order)
-      {
-        const vec4 c = parts[entry.second].Color[i];
-        premultiplied += (1.0f - alpha) * c.a * vec3(c);
-        alpha += (1.0f - alpha) * c.a;
-        contributing += c.a > 0.0f;
-      }
+      const sightline_test::RegionBlend blend = sightline_test::blendRegionsInRayOrder(regions, parts, camera, px, py);
+      const vec3 premultiplied = blend.premultiplied;
+      const float alpha = blend.alpha;
+      const int contributing = blend.contributing;
       const vec4 expected = whole.Color[i];
       ASSERT_NEAR(alpha, expected.a, colourTolerance) << "pixel " << px << ", " << py;
       if (expected.a == 0.0f)

@@ -463,10 +463,21 @@ bool vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox(
   margin = std::max(margin, 0);
   for (int axis = 0; axis < 3; ++axis)
   {
-    if (axis == azimuthAxis && fullCircle && (first[axis] - margin < 0 || last[axis] + margin >= cells[axis]))
+    if (axis == azimuthAxis && fullCircle)
     {
-      first[axis] = 0; // the neighbours across the seam: not one run of indices
-      last[axis] = cells[axis] - 1;
+      // A run of azimuth cells may cross the seam (first > last); the margin may take it there.
+      const int n = cells[axis];
+      const int length = last[axis] - first[axis] + 1 + (first[axis] > last[axis] ? n : 0);
+      if (length + 2 * margin >= n)
+      {
+        first[axis] = 0;
+        last[axis] = n - 1;
+      }
+      else
+      {
+        first[axis] = (first[axis] - margin + n) % n;
+        last[axis] = (last[axis] + margin) % n;
+      }
       continue;
     }
     first[axis] = std::max(first[axis] - margin, 0);

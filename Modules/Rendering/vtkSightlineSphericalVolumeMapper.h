@@ -203,10 +203,13 @@ public:
    * own coordinates), as inclusive ranges of cell indices along the grid's x, y and z:
    * cellRange = { i0, i1, j0, j1, k0, k1 }. A superset (from the ranges of r, theta and phi, or
    * rho, phi and z, over the box), so that a rank drawing `box` needs no other cell. False when
-   * no cell can meet the box, or after an error for a grid that is no such grid. `margin`
-   * widens the ranges by that many cells on each side (within the grid; on a full circle, a
-   * range that the margin takes across the azimuth seam becomes every azimuth cell): the
-   * neighbours that shading's gradients read.
+   * no cell can meet the box, or after an error for a grid that is no such grid. On a full
+   * circle the azimuth range (z for spherical grids, y for cylindrical ones) may run across
+   * the seam: then its first index is greater than its last, meaning cells first..n-1 followed
+   * by 0..last (a grid of those cells goes on past the seam: its azimuths after it are the
+   * grid's plus one turn, 360 degrees or 2 pi). `margin` widens the ranges by that many cells on
+   * each side (within the grid, or around a full circle): the neighbours that shading's
+   * gradients read.
    */
   bool ComputeCellRangeInBox(vtkRectilinearGrid* grid, const double box[6], int cellRange[6], int margin = 0);
 

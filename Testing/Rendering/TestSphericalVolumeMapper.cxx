@@ -377,6 +377,21 @@ TEST(SphericalVolumeMapper, RegionHalvesOfTheirCellsBlendToTheWholeImage)
     covered, both, static_cast<long long>(heldCells[0]), static_cast<long long>(heldCells[1]),
     static_cast<long long>(grid->GetNumberOfCells()));
 
+  // A box across the seam (on +y here) gets a run of azimuth cells across it, first > last,
+  // which the margin widens around the circle; a margin that would close the circle gives all.
+  const int azimuthCells = dims[2] - 1;
+  const double acrossSeam[6] = { -0.3, 0.3, 0.5, 1.0, -0.2, 0.2 }; // about 60 to 120 degrees
+  int seamRange[6], widened[6], all[6];
+  ASSERT_TRUE(scene.mapper->ComputeCellRangeInBox(grid, acrossSeam, seamRange));
+  EXPECT_GT(seamRange[4], seamRange[5]) << "a run across the seam";
+  EXPECT_LT(seamRange[5] + 1 + azimuthCells - seamRange[4], azimuthCells / 2) << "not every azimuth";
+  ASSERT_TRUE(scene.mapper->ComputeCellRangeInBox(grid, acrossSeam, widened, 2));
+  EXPECT_EQ(widened[4], seamRange[4] - 2);
+  EXPECT_EQ(widened[5], seamRange[5] + 2);
+  ASSERT_TRUE(scene.mapper->ComputeCellRangeInBox(grid, acrossSeam, all, azimuthCells / 2));
+  EXPECT_EQ(all[4], 0);
+  EXPECT_EQ(all[5], azimuthCells - 1);
+
   // Latitude input lists its polar cells from the south: the range follows.
   vtkNew<vtkRectilinearGrid> latitude;
   latitude->SetDimensions(dims[0], dims[1], dims[2]);

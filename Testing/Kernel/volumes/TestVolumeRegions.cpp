@@ -61,30 +61,71 @@ bool rangeInBox(const Grid& grid, const dvec3& lower, const dvec3& upper, std::a
   return true;
 }
 
+// The cells of an inclusive index range of n cells, in order; first > last runs across the
+// seam of a full circle (first..n-1, then 0..last).
+std::vector<int> cellsOfRun(int first, int last, int n)
+{
+  std::vector<int> cells;
+  for (int k = first; k != last + 1; k = (k + 1) % (n + 1))
+    if (k < n)
+      cells.push_back(k);
+  return cells;
+}
+bool inRun(int k, int first, int last)
+{
+  return first <= last ? k >= first && k <= last : k >= first || k <= last;
+}
+
+// The breakpoints of a run of cells; across a full circle's seam the angles go on past 2 pi.
+std::vector<double> slice(const std::vector<double>& b, int first, int last)
+{
+  std::vector<double> out;
+  for (int k : cellsOfRun(first, last, int(b.size()) - 1))
+  {
+    const double turn = first > last && k <= last ? 2.0 * kPi : 0.0;
+    if (out.empty())
+      out.push_back(b[std::size_t(k)] + turn);
+    out.push_back(b[std::size_t(k) + 1] + turn);
+  }
+  return out;
+}
+
 // The cells of `range` as a grid of their own, with their values.
 SphericalGrid subGrid(const SphericalGrid& grid, const std::array<int, 6>& range)
 {
-  const auto slice = [](const std::vector<double>& b, int first, int last)
-  { return std::vector<double>(b.begin() + first, b.begin() + last + 2); };
   return { slice(grid.radius, range[0], range[1]), slice(grid.polar, range[2], range[3]),
     slice(grid.azimuth, range[4], range[5]) };
 }
 CylindricalGrid subGrid(const CylindricalGrid& grid, const std::array<int, 6>& range)
 {
-  const auto slice = [](const std::vector<double>& b, int first, int last)
-  { return std::vector<double>(b.begin() + first, b.begin() + last + 2); };
   return { slice(grid.radius, range[0], range[1]), slice(grid.azimuth, range[2], range[3]),
     slice(grid.height, range[4], range[5]) };
 }
+int cellCount(const std::array<int, 6>& range, const std::array<int, 3>& cells)
+{
+  int count = 1;
+  for (int axis = 0; axis < 3; ++axis)
+    count *= int(cellsOfRun(range[2 * axis], range[2 * axis + 1], cells[std::size_t(axis)]).size());
+  return count;
+}
 template <class Grid, class T>
-std::vector<T> subValues(const Grid& grid, const std::vector<T>& values, const std::array<int, 6>& range)
+std::vector<T> subValues(const Grid& grid, const std::vector<T>& values, const std::array<int, 6>& range,
+  const std::array<int, 3>& cells)
 {
   std::vector<T> out;
-  for (int k = range[4]; k <= range[5]; ++k)
-    for (int j = range[2]; j <= range[3]; ++j)
-      for (int i = range[0]; i <= range[1]; ++i)
+  for (int k : cellsOfRun(range[4], range[5], cells[2]))
+    for (int j : cellsOfRun(range[2], range[3], cells[1]))
+      for (int i : cellsOfRun(range[0], range[1], cells[0]))
         out.push_back(values[grid.cellIndex(i, j, k)]);
   return out;
+}
+std::array<int, 3> cellsOf(const SphericalGrid& grid)
+{
+  return { grid.radialCells(), grid.polarCells(), grid.azimuthalCells() };
+}
+std::array<int, 3> cellsOf(const CylindricalGrid& grid)
+{
+  return { grid.radialCells(), grid.azimuthalCells(), grid.heightCells() };
 }
 
 // The regions' images blended in ray order against the whole image.
@@ -141,7 +182,7 @@ TEST(VolumeRegions, CellRangeInBoxHoldsTheCellOfEveryPointInTheBox)
   std::mt19937 random(17);
   std::uniform_real_distribution<double> coordinate(-1.1, 1.1), size(0.0, 0.8), unit(0.0, 1.0);
   const CylindricalGrid cylinder{ { 0.0, 0.2, 0.6, 1.0 }, { -kPi, -1.0, 0.5, 2.0, kPi }, { -1.0, -0.2, 0.3, 1.0 } };
-  int tight = 0;
+  int tight = 0, seamRuns = 0;
   for (int trial = 0; trial < 300; ++trial)
   {
     dvec3 lower(coordinate(random), coordinate(random), coordinate(random));
@@ -180,13 +221,12 @@ TEST(VolumeRegions, CellRangeInBoxHoldsTheCellOfEveryPointInTheBox)
         if (i < 0 || j < 0 || k < 0)
           continue; // outside the section
         ASSERT_TRUE(any) << "trial " << trial << ": no cells for a box holding cell " << i << " " << j << " " << k;
-        EXPECT_TRUE(i >= range[0] && i <= range[1] && j >= range[2] && j <= range[3] && k >= range[4] &&
-          k <= range[5])
+        EXPECT_TRUE(i >= range[0] && i <= range[1] && j >= range[2] && j <= range[3] && inRun(k, range[4], range[5]))
           << "trial " << trial << ": cell " << i << " " << j << " " << k << " outside the range";
       }
-      if (any && (range[1] - range[0] + 1) * (range[3] - range[2] + 1) * (range[5] - range[4] + 1) <
-          int(grid.cellCount()) / 2)
+      if (any && cellCount(range, cellsOf(grid)) < int(grid.cellCount()) / 2)
         ++tight;
+      seamRuns += any && range[4] > range[5];
     }
     std::array<int, 6> range{};
     const bool any = rangeInBox(cylinder, lower, upper, range);
@@ -199,13 +239,14 @@ TEST(VolumeRegions, CellRangeInBoxHoldsTheCellOfEveryPointInTheBox)
       if (i < 0 || j < 0 || k < 0)
         continue;
       ASSERT_TRUE(any) << "trial " << trial << ": no cylindrical cells for a box holding one";
-      EXPECT_TRUE(i >= range[0] && i <= range[1] && j >= range[2] && j <= range[3] && k >= range[4] &&
-        k <= range[5])
+      EXPECT_TRUE(i >= range[0] && i <= range[1] && inRun(j, range[2], range[3]) && k >= range[4] && k <= range[5])
         << "trial " << trial << ": cylindrical cell " << i << " " << j << " " << k << " outside the range";
     }
   }
   // Not every box gets every cell: the ranges are what makes a rank's piece smaller.
   EXPECT_GT(tight, 100);
+  EXPECT_GT(seamRuns, 10); // boxes across the ball's seam (at -pi) take a run across it
+  std::printf("%d of 600 spherical boxes hold under half the cells, %d take a run across the seam\n", tight, seamRuns);
   // The half x <= 0 of a ball, a face on the axis: only the azimuths in [pi/2, 3pi/2], not the
   // cell that merely touches the face at -pi/2 (the seam of this grid, at -pi, is inside).
   {
@@ -219,6 +260,16 @@ TEST(VolumeRegions, CellRangeInBoxHoldsTheCellOfEveryPointInTheBox)
     ASSERT_TRUE(rangeInBox(wedge, dvec3(-1.0), dvec3(0.0, 1.0, 1.0), range));
     EXPECT_EQ(range[4], 1);
     EXPECT_EQ(range[5], 2);
+    // The half x <= -0.1 of the ball spans azimuths ~95 to ~265 degrees, across its seam at
+    // -pi: the cells [1.5, 2.6], [2.6, pi], [-pi, -2.5], [-2.5, -1.2], as the run 5..1.
+    ASSERT_TRUE(rangeInBox(ball, dvec3(-1.0), dvec3(-0.1, 1.0, 1.0), range));
+    EXPECT_EQ(range[4], 5);
+    EXPECT_EQ(range[5], 1);
+    // The same across a wedge's ends: they are not neighbours, so every cell.
+    const SphericalGrid open{ ball.radius, ball.polar, { -3.0, -1.2, 0.0, 1.5, 3.0 } };
+    ASSERT_TRUE(rangeInBox(open, dvec3(-1.0), dvec3(-0.1, 1.0, 1.0), range));
+    EXPECT_EQ(range[4], 0);
+    EXPECT_EQ(range[5], 3);
   }
   // A box beyond the outer shell, and a NaN box, meet no cell.
   int first[3], last[3];
@@ -233,8 +284,12 @@ TEST(VolumeRegions, SubGridImagesBlendedInVisibilityOrderGiveTheWholeImage)
   // along a ray, and a cell cut by a face contributes its two parts exactly.
   std::mt19937 random(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  const dvec3 cut(0.13, -0.21, 0.05);
+  // Two cuts: one whose octants either hold the z axis or stay off the seam (at -pi), one
+  // whose octant below x = -0.3 runs across the seam (its cells wrap, first > last).
+  for (const dvec3& cut : { dvec3(0.13, -0.21, 0.05), dvec3(-0.3, 0.1, 0.05) })
+  {
   const auto regions = octants(cut);
+  int seamRuns = 0;
   for (const SphericalGrid& grid : sphericalSections())
   {
     std::vector<TransferSample> cells(grid.cellCount());
@@ -266,8 +321,9 @@ TEST(VolumeRegions, SubGridImagesBlendedInVisibilityOrderGiveTheWholeImage)
           parts[r].resize(camera.width(), camera.height());
           continue;
         }
+        seamRuns += range[4] > range[5];
         const SphericalTraversal piece(subGrid(grid, range));
-        const std::vector<TransferSample> pieceCells = subValues(grid, cells, range);
+        const std::vector<TransferSample> pieceCells = subValues(grid, cells, range, cellsOf(grid));
         heldCells += pieceCells.size();
         options.regionLower = regions[r][0];
         options.regionUpper = regions[r][1];
@@ -322,14 +378,18 @@ TEST(VolumeRegions, SubGridImagesBlendedInVisibilityOrderGiveTheWholeImage)
     cylinderParts[r].resize(camera.width(), camera.height());
     pointParts[r].resize(camera.width(), camera.height());
     if (rangeInBox(cylinder, box[0], box[1], range))
-      renderCylindricalVolume(CylindricalTraversal(subGrid(cylinder, range)), subValues(cylinder, cells, range),
+      seamRuns += range[2] > range[3];
+    if (rangeInBox(cylinder, box[0], box[1], range))
+      renderCylindricalVolume(CylindricalTraversal(subGrid(cylinder, range)), subValues(cylinder, cells, range, cellsOf(cylinder)),
         camera, cylinderParts[r], options);
     if (rangeInBox(ball, box[0], box[1], range))
     {
       // Point values of the cells' corners: the range's points.
       std::vector<double> piecePoints;
       const int nr = ball.radialCells() + 1, nt = ball.polarCells() + 1;
-      for (int k = range[4]; k <= range[5] + 1; ++k)
+      std::vector<int> azimuthPoints = cellsOfRun(range[4], range[5], ball.azimuthalCells());
+      azimuthPoints.push_back(azimuthPoints.back() + 1);
+      for (int k : azimuthPoints)
         for (int j = range[2]; j <= range[3] + 1; ++j)
           for (int i = range[0]; i <= range[1] + 1; ++i)
             piecePoints.push_back(points[std::size_t(i + nr * (j + nt * k))]);
@@ -344,4 +404,8 @@ TEST(VolumeRegions, SubGridImagesBlendedInVisibilityOrderGiveTheWholeImage)
   expectBlendIsWhole(regions, pointParts, wholePoints, camera, 1e-3f, covered, split);
   std::printf("spherical point data: %d covered pixels, %d with layers in several octants\n", covered, split);
   EXPECT_GT(split, 100);
+  std::printf("cut at (%g, %g, %g): %d octant ranges run across the seam\n", cut.x, cut.y, cut.z, seamRuns);
+  if (cut.x < 0.0)
+    EXPECT_GT(seamRuns, 0);
+  }
 }

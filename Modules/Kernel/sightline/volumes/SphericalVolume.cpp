@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/volumes/SphericalVolume.h"
 
+#include "sightline/volumes/GridTraversal.h"
 #include "sightline/volumes/SphericalFields.h"
 
 #include <tbb/blocked_range.h>
@@ -465,7 +466,8 @@ void axisDistances(const dvec3& lower, const dvec3& upper, double& nearest, doub
 }
 
 // The azimuth cells meeting the box's xy rectangle: every cell when the axis runs through the
-// rectangle's inside, or when the cells it meets wrap around the grid's seam. A cell that only
+// rectangle's inside; a run across a full circle's seam as first > last (a wedge's cells at
+// both ends are not neighbours, so they give every cell). A cell that only
 // touches the rectangle's angles (a shared face, to 1e-12) is left out when others overlap
 // them: what lies in a face is a sliver without volume.
 bool azimuthCellsInBox(const std::vector<double>& azimuth, const dvec3& lower, const dvec3& upper, int& first, int& last)
@@ -495,29 +497,35 @@ bool azimuthCellsInBox(const std::vector<double>& azimuth, const dvec3& lower, c
   for (const double slack : { -1e-12, 1e-12 })
   {
     // First the cells that overlap the angles by more than 1e-12, else those that touch them.
+    std::vector<bool> meets(std::size_t(cells), false);
     int count = 0;
-    first = -1;
     for (int k = 0; k < cells; ++k)
     {
-      bool meets = false;
-      for (int turn = -2; turn <= 2 && !meets; ++turn)
-        meets = std::min(azimuth[std::size_t(k) + 1] + turn * kTwoPi, high) -
+      for (int turn = -2; turn <= 2 && !meets[std::size_t(k)]; ++turn)
+        meets[std::size_t(k)] = std::min(azimuth[std::size_t(k) + 1] + turn * kTwoPi, high) -
             std::max(azimuth[std::size_t(k)] + turn * kTwoPi, low) > -slack;
-      if (meets)
-      {
-        if (first < 0)
-          first = k;
-        last = k;
-        ++count;
-      }
+      count += meets[std::size_t(k)];
     }
     if (count == 0)
       continue;
-    if (last - first + 1 != count)
-    {
-      first = 0; // around the seam of a full circle: not one run of indices
-      last = cells - 1;
-    }
+    first = 0;
+    last = cells - 1;
+    if (count == cells)
+      return true;
+    // The run's start: a meeting cell whose predecessor (across the seam on a full circle)
+    // does not meet.
+    const bool wraps = traversal::spansFullCircle(azimuth);
+    int start = -1;
+    for (int k = 0; k < cells && start < 0; ++k)
+      if (meets[std::size_t(k)] && (k > 0 ? !meets[std::size_t(k) - 1] : !wraps || !meets[std::size_t(cells) - 1]))
+        start = k;
+    for (int step = 0; step < count; ++step)
+      if (start < 0 || !meets[std::size_t((start + step) % cells)])
+        return true; // not one run (a wedge's two ends): every cell
+    if (start + count > cells && !wraps)
+      return true;
+    first = start;
+    last = (start + count - 1) % cells;
     return true;
   }
   return false;

@@ -87,8 +87,10 @@ SphericalVolumeStatistics renderCylindricalVolumePoints(const CylindricalTravers
 
 /// The cells of `grid` that may meet the box [lower, upper] (in the grid's own coordinates),
 /// as inclusive index ranges first[axis]..last[axis] (r, theta, phi): a superset, from the
-/// ranges of r, theta and phi over the box (an azimuth range that wraps, or a box around the
-/// z axis, gives every phi cell). Returns false when no cell can meet the box.
+/// ranges of r, theta and phi over the box. On a full circle the azimuth range may run across
+/// the seam: then first > last, meaning cells first..n-1 followed by 0..last. A box around the
+/// z axis gives every phi cell, as does a wedge's range that wraps (its ends are not
+/// neighbours). Returns false when no cell can meet the box.
 bool cellRangeInBox(const SphericalGrid& grid, const dvec3& lower, const dvec3& upper, int first[3], int last[3]);
 /// The same for a cylindrical grid (rho, phi, z).
 bool cellRangeInBox(const CylindricalGrid& grid, const dvec3& lower, const dvec3& upper, int first[3], int last[3]);

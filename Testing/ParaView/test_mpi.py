@@ -57,7 +57,9 @@ TRANSLUCENT = ("Translucent", "TranslucentBorder", "TranslucentBelow", "Transluc
                "TranslucentTree", "TranslucentTreeSide",
                # A spherical volume cut into one box per rank; VolumeBorder looks along x = 0,
                # the plane between the 2- and 4-rank boxes.
-               "Volume", "VolumeShaded", "VolumeBorder", "VolumeBelow")
+               "Volume", "VolumeShaded", "VolumeBorder", "VolumeBelow",
+               # The full sphere, its azimuth seam inside rank 0's box.
+               "VolumeSphere", "VolumeSphereShaded")
 RUN_TIMEOUT = 120
 BACKGROUND = np.round(np.array([0.1, 0.1, 0.15]) * 255).astype(int)
 
@@ -132,8 +134,9 @@ def check_ranks(trk):
                       f"{n} ranks reported errors:\n" + "\n".join(errors(result.stdout)))
         rank0[n] = traced(result.stdout)
         regions[n] = re.findall(r"^Translucent: rank 0's region \((.*)\)", result.stdout, re.MULTILINE)
-        volume[n] = re.findall(r"^Volume: rank 0's piece (\d+) cells, drew (\d+) cells in the "
-                               r"region \((.*)\)", result.stdout, re.MULTILINE)
+        volume[n] = {name: found for name, *found in re.findall(
+            r"^(Volume|VolumeSphere): rank 0's piece (\d+) cells, drew (\d+) cells in the "
+            r"region \((.*)\)", result.stdout, re.MULTILINE)}
         # Each rank traces its own piece: rank 0's mapper gets rank 0's piece, not the gathered
         # whole (the view did not move the geometry to one process).
         for name in ("Spheres", "TubesSplit", "ReaderPieces", "EmptyRanks"):
@@ -206,21 +209,26 @@ def check_ranks(trk):
             checks.expect(0 < rank0[n]["Translucent"][1] < rank0[1]["Translucent"][1],
                           f"{n} ranks: rank 0 did not draw a part of the streamlines")
     # The spherical volume: rank 0 holds a piece of the grid (by extent) and draws the cells of
-    # its box (received from the ranks that hold them), each less than the whole grid.
-    grid_cells = int(volume[1][0][0]) if volume[1] else 0
-    for n in (1, 2, 4):
-        if not checks.expect(len(volume[n]) == 1, f"{n} ranks: no spherical volume report"):
-            continue
-        piece, drawn = int(volume[n][0][0]), int(volume[n][0][1])
-        region = [float(v) for v in volume[n][0][2].split(",")]
-        finite = [v for v in region if np.isfinite(v)]
-        print(f"spherical volume, {n} ranks: rank 0's piece {piece} of {grid_cells} cells, it "
-              f"drew {drawn} cells in its region {region}")
-        if n == 1:
-            checks.expect(piece == drawn > 0 and not finite, "1 rank: not the whole grid")
-        else:
-            checks.expect(0 < piece < grid_cells and 0 < drawn < grid_cells and finite,
-                          f"{n} ranks: rank 0 held or drew the whole grid, or no region")
+    # its box (received from the ranks that hold them), each less than the whole grid. For the
+    # full sphere, whose seam lies in rank 0's box, that is the run of azimuths across the seam:
+    # on 2 ranks half of them and a cell on each side for shading (26 of 48).
+    for scene, most in (("Volume", {2: 1.0, 4: 1.0}), ("VolumeSphere", {2: 26 / 48, 4: 14 / 48})):
+        grid_cells = int(volume[1][scene][0]) if scene in volume[1] else 0
+        for n in (1, 2, 4):
+            if not checks.expect(scene in volume[n], f"{scene}, {n} ranks: no spherical volume report"):
+                continue
+            piece, drawn = int(volume[n][scene][0]), int(volume[n][scene][1])
+            region = [float(v) for v in volume[n][scene][2].split(",")]
+            finite = [v for v in region if np.isfinite(v)]
+            print(f"{scene}, {n} ranks: rank 0's piece {piece} of {grid_cells} cells, it "
+                  f"drew {drawn} cells in its region {region}")
+            if n == 1:
+                checks.expect(piece == drawn > 0 and not finite, f"{scene}, 1 rank: not the whole grid")
+            else:
+                checks.expect(0 < piece < grid_cells and 0 < drawn < grid_cells and finite,
+                              f"{scene}, {n} ranks: rank 0 held or drew the whole grid, or no region")
+                checks.expect(drawn <= most[n] * grid_cells,
+                              f"{scene}, {n} ranks: rank 0 drew more than {most[n]:.0%} of the grid")
     for name in TRANSLUCENT:
         reference = image(folders[1], name)
         share = float(np.mean(covered(reference)))

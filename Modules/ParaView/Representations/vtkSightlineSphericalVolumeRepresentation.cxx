@@ -136,11 +136,18 @@ bool CellsInBoth(const int a[6], const int b[6], int both[6])
   return true;
 }
 
-bool Contains(const int outer[6], const int inner[6])
+vtkIdType CellCount(const int extent[6])
 {
-  return outer[0] <= inner[0] && inner[1] <= outer[1] && outer[2] <= inner[2] &&
-    inner[3] <= outer[3] && outer[4] <= inner[4] && inner[5] <= outer[5];
+  return vtkIdType(extent[1] - extent[0]) * (extent[3] - extent[2]) * (extent[5] - extent[4]);
 }
+
+// Cells a rank places in its region grid: the point extent there, and how many cells past the
+// whole extent it lies (a full circle's run across the seam; 0 where the piece is).
+struct SeamPart
+{
+  std::array<int, 6> Extent{};
+  int Shift = 0;
+};
 
 // Point ids, and cell ids (of the cells starting at ijk), inside an extent.
 vtkIdType PointIn(const int extent[6], int i, int j, int k)
@@ -386,10 +393,12 @@ bool vtkSightlineSphericalVolumeRepresentation::Partition()
   SplitBox(world, 0, ranks, boxes);
   vtkNew<vtkMatrix4x4> worldToGrid;
   vtkMatrix4x4::Invert(matrix, worldToGrid);
-  // Each rank's cells: those that may meet its box, one wider when shading reads the gradients
-  // (a margin across a full circle's seam takes every azimuth).
+  // Each rank's cells: those that may meet its box, one wider when shading reads the gradients.
+  // A run of azimuth cells across a full circle's seam goes on past the whole extent: index
+  // i > whole's last stands for i - n (n cells around), one turn on.
   const int margin = this->Property->GetShade(0) ? 1 : 0;
   std::vector<std::array<int, 6>> needed(static_cast<std::size_t>(ranks));
+  int turnAxis = -1; // the axis whose runs cross the seam
   for (int r = 0; r < ranks; ++r)
   {
     int range[6];
@@ -398,24 +407,73 @@ bool vtkSightlineSphericalVolumeRepresentation::Partition()
     {
       for (int axis = 0; axis < 3; ++axis)
       {
+        const bool acrossSeam = range[2 * axis] > range[2 * axis + 1];
+        turnAxis = acrossSeam ? axis : turnAxis;
         needed[r][2 * axis] = whole[2 * axis] + range[2 * axis];
-        needed[r][2 * axis + 1] = whole[2 * axis] + range[2 * axis + 1] + 1;
+        needed[r][2 * axis + 1] = whole[2 * axis] + range[2 * axis + 1] + 1 +
+          (acrossSeam ? whole[2 * axis + 1] - whole[2 * axis] : 0);
       }
     }
   }
+  const int around = turnAxis < 0 ? 0 : whole[2 * turnAxis + 1] - whole[2 * turnAxis];
+  const double turn = this->Mapper->GetAngleUnits() == vtkSightlineSphericalVolumeMapper::DEGREES ? 360.0 : 2.0 * vtkMath::Pi();
 
-  // Rank p sends rank q the cells of p's piece that q needs; a rank whose own piece holds all
-  // it needs takes nothing from the others.
-  const auto sends = [&](int p, int q, int part[6])
+  // Rank p sends rank q the cells of p's piece that q needs, as parts: the piece where it is,
+  // and once more a turn on for a run across the seam. A rank whose own piece holds all it
+  // needs takes nothing from the others.
+  const auto partsOf = [&](int p, int q)
   {
+    std::vector<SeamPart> parts;
     const int* pieceOfP = &all[12 * p];
-    const int* pieceOfQ = &all[12 * q];
-    if (!IsValidExtent(needed[q].data()) || !IsValidExtent(pieceOfP) ||
-      (p != q && IsValidExtent(pieceOfQ) && Contains(pieceOfQ, needed[q].data())))
+    if (!IsValidExtent(needed[q].data()) || !IsValidExtent(pieceOfP))
     {
-      return false;
+      return parts;
     }
-    return CellsInBoth(pieceOfP, needed[q].data(), part);
+    for (const int shift : { 0, around })
+    {
+      SeamPart part;
+      part.Shift = shift;
+      int moved[6];
+      std::copy(pieceOfP, pieceOfP + 6, moved);
+      if (shift > 0)
+      {
+        moved[2 * turnAxis] += shift;
+        moved[2 * turnAxis + 1] += shift;
+      }
+      if (CellsInBoth(moved, needed[q].data(), part.Extent.data()))
+      {
+        parts.push_back(part);
+      }
+      if (around == 0)
+      {
+        break;
+      }
+    }
+    return parts;
+  };
+  const auto selfSufficient = [&](int q)
+  {
+    vtkIdType own = 0;
+    for (const SeamPart& part : partsOf(q, q))
+    {
+      own += CellCount(part.Extent.data());
+    }
+    return own == CellCount(needed[q].data());
+  };
+  const auto sends = [&](int p, int q)
+  {
+    return p != q && selfSufficient(q) ? std::vector<SeamPart>() : partsOf(p, q);
+  };
+  // The part of the piece (whose points span pieceExtent) that goes to `part.Extent`.
+  const auto cut = [&](const SeamPart& part)
+  {
+    std::array<int, 6> inPiece = part.Extent;
+    if (part.Shift > 0)
+    {
+      inPiece[2 * turnAxis] -= part.Shift;
+      inPiece[2 * turnAxis + 1] -= part.Shift;
+    }
+    return SubGrid(piece, local, inPiece.data());
   };
   auto region = vtkSmartPointer<vtkRectilinearGrid>::New();
   const int* mineNeeded = needed[rank].data();
@@ -428,15 +486,19 @@ bool vtkSightlineSphericalVolumeRepresentation::Partition()
       slice->SetNumberOfTuples(mineNeeded[2 * axis + 1] - mineNeeded[2 * axis] + 1);
       for (int i = mineNeeded[2 * axis]; i <= mineNeeded[2 * axis + 1]; ++i)
       {
-        slice->SetValue(i - mineNeeded[2 * axis], breakpoints[std::size_t(offset + i - whole[2 * axis])]);
+        const bool turned = i > whole[2 * axis + 1];
+        slice->SetValue(i - mineNeeded[2 * axis],
+          breakpoints[std::size_t(offset + i - (turned ? around : 0) - whole[2 * axis])] + (turned ? turn : 0.0));
       }
       axis == 0 ? region->SetXCoordinates(slice) : axis == 1 ? region->SetYCoordinates(slice) : region->SetZCoordinates(slice);
     }
   }
-  int part[6];
-  if (piece && sends(rank, rank, part))
+  if (piece)
   {
-    PlacePart(SubGrid(piece, local, part), part, region, mineNeeded);
+    for (const SeamPart& part : sends(rank, rank))
+    {
+      PlacePart(cut(part), part.Extent.data(), region, mineNeeded);
+    }
   }
   // Pairs in one global order, the lower rank sending first: no rank waits on one that waits.
   constexpr int tag = 872301;
@@ -452,22 +514,21 @@ bool vtkSightlineSphericalVolumeRepresentation::Partition()
       for (const bool fromA : { true, false })
       {
         const int from = fromA ? a : b, to = fromA ? b : a;
-        if (!sends(from, to, part))
+        for (const SeamPart& part : sends(from, to))
         {
-          continue;
-        }
-        if (rank == from)
-        {
-          vtkSmartPointer<vtkRectilinearGrid> sent = SubGrid(piece, local, part);
-          controller->Send(sent, other, tag);
-        }
-        else
-        {
-          vtkSmartPointer<vtkDataObject> received;
-          received.TakeReference(controller->ReceiveDataObject(other, tag));
-          if (auto* grid = vtkRectilinearGrid::SafeDownCast(received))
+          if (rank == from)
           {
-            PlacePart(grid, part, region, mineNeeded);
+            vtkSmartPointer<vtkRectilinearGrid> sent = cut(part);
+            controller->Send(sent, other, tag);
+          }
+          else
+          {
+            vtkSmartPointer<vtkDataObject> received;
+            received.TakeReference(controller->ReceiveDataObject(other, tag));
+            if (auto* grid = vtkRectilinearGrid::SafeDownCast(received))
+            {
+              PlacePart(grid, part.Extent.data(), region, mineNeeded);
+            }
           }
         }
       }

@@ -18,7 +18,9 @@
  * - every rank receives from the others the cells that may meet its box
  *   (vtkSightlineSphericalVolumeMapper::ComputeCellRangeInBox, a conservative (r, theta, phi)
  *   range, one cell wider when shading reads the gradients) and draws them with every ray
- *   clipped to its box (the outer faces at infinity).
+ *   clipped to its box (the outer faces at infinity). A box across a full circle's azimuth
+ *   seam gets the run of cells across it, assembled as one grid whose azimuths go on past the
+ *   seam by a turn, not every azimuth.
  * A ray's emission and absorption over the boxes it crosses, blended front to back, are those
  * of the whole ray, so the image is the one-process image; no rank holds the whole grid. This
  * is redone only when a piece, the coordinate settings or the actor's matrix change. Pieces

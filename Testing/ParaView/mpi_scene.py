@@ -232,6 +232,14 @@ def mpi_volume(args, view):
     mpi_save_view(view, args.output, "VolumeSphereShaded", camera=camera)
     rep.Shade = 0
     report("VolumeSphere")
+    # Point data, interpolated inside the cells: the transfer table must span the whole grid's
+    # range on every rank, not each rank's own.
+    source.OutputCellData = 0
+    source.UpdatePipeline()
+    ColorBy(rep, ("POINTS", "density"))
+    rep.RescaleTransferFunctionToDataRange(True)
+    rep.VolumeSampleDistance = 0.03  # PREM's thinnest layer would make the automatic one tiny
+    mpi_save_view(view, args.output, "VolumePoints", camera=camera)
     Hide(source, view)
 
 

@@ -59,7 +59,9 @@ TRANSLUCENT = ("Translucent", "TranslucentBorder", "TranslucentBelow", "Transluc
                # the plane between the 2- and 4-rank boxes.
                "Volume", "VolumeShaded", "VolumeBorder", "VolumeBelow",
                # The full sphere, its azimuth seam inside rank 0's box.
-               "VolumeSphere", "VolumeSphereShaded")
+               "VolumeSphere", "VolumeSphereShaded",
+               # Point data interpolated in the cells (one transfer table over the whole range).
+               "VolumePoints")
 RUN_TIMEOUT = 120
 BACKGROUND = np.round(np.array([0.1, 0.1, 0.15]) * 255).astype(int)
 

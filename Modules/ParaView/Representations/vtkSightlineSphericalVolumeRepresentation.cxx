@@ -85,6 +85,13 @@ int vtkSightlineSphericalVolumeRepresentation::RequestData(
           std::copy(bounds, bounds + 6, this->DataBounds);
         }
       }
+      else
+      {
+        // The region grid of the last partition is stale until the next one: without this, the
+        // view's bounds pass would read it with the new data's scalar selection (a switch from
+        // cell to point data reported "no scalars").
+        this->Mapper->SetInputDataObject(nullptr);
+      }
     }
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -360,25 +361,67 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   return kept;
 }
 
+/// out[lane] = sum over j of b[j] * block[j * 8 + lane], each summed in order of j. Cloned
+/// for AVX2 (chosen at load time, so the default build stays portable): four lanes per
+/// instruction, and without FMA contraction the same bits as the SSE2 version.
+using Lanes4 = double __attribute__((vector_size(32))); // two SSE2 registers, one AVX2 one
+__attribute__((target_clones("avx2", "default"))) void seriesValuesOfBlock(
+  const double* b, const double* block, int stride, double* out)
+{
+  Lanes4 low = {}, high = {};
+  for (int j = 0; j < stride; ++j, block += 8)
+  {
+    Lanes4 basisLow, basisHigh;
+    std::memcpy(&basisLow, block, sizeof(Lanes4));
+    std::memcpy(&basisHigh, block + 4, sizeof(Lanes4));
+    low += b[j] * basisLow;
+    high += b[j] * basisHigh;
+  }
+  std::memcpy(out, &low, sizeof(Lanes4));
+  std::memcpy(out + 4, &high, sizeof(Lanes4));
+}
+
 /// Spherical Fibonacci directions in the upper hemisphere with the basis evaluated at each.
 struct FibonacciTable
 {
+  static constexpr int kLanes = 8; ///< directions summed side by side (seriesValuesOfBlock)
   int order = 0;
   int count = 0;
+  int stride = 0; ///< shCoefficientCount(order)
   std::vector<dvec3> directions;
-  std::vector<double> basis; ///< count x shCoefficientCount(order)
+  /// Basis values in blocks of kLanes directions, coefficient-major inside a block:
+  /// [block][coefficient][lane], zero past `count`.
+  std::vector<double> blockedBasis;
 
-  FibonacciTable(int k, int samples) : order(k), count(samples)
+  FibonacciTable(int k, int samples) : order(k), count(samples), stride(shCoefficientCount(k))
   {
-    const int stride = shCoefficientCount(k);
     directions.resize(count);
-    basis.resize(std::size_t(count) * stride);
+    const int blocks = (count + kLanes - 1) / kLanes;
+    blockedBasis.assign(std::size_t(blocks) * stride * kLanes, 0.0);
+    std::vector<double> row(static_cast<std::size_t>(stride));
     for (int l = 0; l < count; ++l)
     {
       // Glyphs are point symmetric: the upper hemisphere sees every extent.
       directions[l] = detail::fibonacciDirection(l, count, true);
-      evaluateSH<double>(k, directions[l].x, directions[l].y, directions[l].z,
-        basis.data() + std::size_t(l) * stride);
+      evaluateSH<double>(k, directions[l].x, directions[l].y, directions[l].z, row.data());
+      for (int j = 0; j < stride; ++j)
+        blockedBasis[(std::size_t(l / kLanes) * stride + j) * kLanes + l % kLanes] = row[std::size_t(j)];
+    }
+  }
+
+  /// visit(l, F(directions[l])) for every direction in order. Each value is summed over the
+  /// coefficients in order, as one dot product alone would be (the same bits); kLanes of them
+  /// run side by side, so the additions no longer wait on one another and vectorise.
+  template <class Visit>
+  void forEachValue(const double* b, Visit&& visit) const
+  {
+    const double* block = blockedBasis.data();
+    for (int first = 0; first < count; first += kLanes, block += std::size_t(stride) * kLanes)
+    {
+      double value[kLanes];
+      seriesValuesOfBlock(b, block, stride, value);
+      for (int lane = 0; lane < kLanes && first + lane < count; ++lane)
+        visit(first + lane, value[lane]);
     }
   }
 };
@@ -510,15 +553,10 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
 {
   checkGlyphOrder(order);
   const FibonacciTable& table = fibonacciTable(order);
-  const int stride = shCoefficientCount(order);
   dvec3 best(0.0);
   int bestIndex[3] = { 0, 0, 0 };
-  const double* row = table.basis.data();
-  for (int l = 0; l < table.count; ++l, row += stride)
+  table.forEachValue(b, [&](int l, double value)
   {
-    double value = 0.0;
-    for (int j = 0; j < stride; ++j)
-      value += b[j] * row[j];
     const dvec3 point = glm::abs(value * table.directions[l]);
     for (int axis = 0; axis < 3; ++axis)
       if (point[axis] > best[axis])
@@ -526,7 +564,7 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
         best[axis] = point[axis];
         bestIndex[axis] = l;
       }
-  }
+  });
   if (order == 0) // a sphere: its extent is known exactly
     return dvec3(std::abs(b[0]) * 0.5 / std::sqrt(kPi));
   for (int axis = 0; axis < 3; ++axis)
@@ -607,7 +645,6 @@ double shGlyphMaxRadius(int order, const double* b)
 {
   checkGlyphOrder(order);
   const FibonacciTable& table = peakSearchTable(order);
-  const int stride = shCoefficientCount(order);
   // The few best samples that lie on different peaks (not within ~17 degrees of each other or
   // of the antipode): two lobes of nearly equal height must both be climbed.
   constexpr int kCandidates = 4;
@@ -615,21 +652,17 @@ double shGlyphMaxRadius(int order, const double* b)
   int candidate[kCandidates];
   double height[kCandidates];
   int found = 0;
-  const double* row = table.basis.data();
-  for (int l = 0; l < table.count; ++l, row += stride)
+  table.forEachValue(b, [&](int l, double value)
   {
-    double value = 0.0;
-    for (int j = 0; j < stride; ++j)
-      value += b[j] * row[j];
     value = std::abs(value);
     if (found == kCandidates && value <= height[kCandidates - 1])
-      continue;
+      return;
     int near = -1;
     for (int c = 0; c < found && near < 0; ++c)
       if (std::abs(glm::dot(table.directions[l], table.directions[candidate[c]])) > sameLobe)
         near = c;
     if (near >= 0 && value <= height[near])
-      continue;
+      return;
     int slot = near >= 0 ? near : (found < kCandidates ? found++ : kCandidates - 1);
     for (; slot > 0 && height[slot - 1] < value; --slot) // keep the list sorted, best first
     {
@@ -638,7 +671,7 @@ double shGlyphMaxRadius(int order, const double* b)
     }
     height[slot] = value;
     candidate[slot] = l;
-  }
+  });
   if (found == 0 || order == 0 || !(height[0] > 0.0))
     return found ? std::max(height[0], 0.0) : 0.0;
   const double spacing = std::sqrt(4.0 * kPi / table.count);

@@ -381,6 +381,54 @@ __attribute__((target_clones("avx2", "default"))) void seriesValuesOfBlock(
   std::memcpy(out + 4, &high, sizeof(Lanes4));
 }
 
+using Bits4 = long long __attribute__((vector_size(32)));
+
+/// Per lane, the largest |F(w)| |w[axis]| over blocks of 8 directions and the first direction
+/// reaching it (4 + 4 lanes; the box search's inner loop without a call per direction).
+struct AxisMaxima
+{
+  Lanes4 value[3][2] = {};
+  Bits4 index[3][2] = {};
+};
+
+/// The same sums as seriesValuesOfBlock for `blocks` blocks, then |F| |w[axis]| against the
+/// lanes' running maxima (strictly greater replaces, so each lane keeps its first direction).
+/// |F w[axis]| = |F| |w[axis]| exactly, so the maxima are those of the serial search.
+__attribute__((target_clones("avx2", "default"))) void seriesAxisMaxima(const double* b,
+  const double* basis, const double* absDirections, int stride, int blocks, AxisMaxima& maxima)
+{
+  // Plain statements only (no helper returning a vector: that would change the default
+  // clone's calling convention).
+  const Bits4 magnitude = Bits4{} + 0x7fffffffffffffffLL;
+  const Bits4 laneOffsets[2] = { { 0, 1, 2, 3 }, { 4, 5, 6, 7 } };
+  for (int block = 0; block < blocks; ++block, basis += std::size_t(stride) * 8, absDirections += 24)
+  {
+    Lanes4 sums[2] = {};
+    for (int j = 0; j < stride; ++j)
+      for (int half = 0; half < 2; ++half)
+      {
+        Lanes4 basisValues;
+        std::memcpy(&basisValues, basis + j * 8 + half * 4, sizeof(Lanes4));
+        sums[half] += b[j] * basisValues;
+      }
+    for (int half = 0; half < 2; ++half)
+    {
+      const Lanes4 absolute = Lanes4(Bits4(sums[half]) & magnitude);
+      const Bits4 ids = laneOffsets[half] + 8LL * block;
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        Lanes4 component;
+        std::memcpy(&component, absDirections + axis * 8 + half * 4, sizeof(Lanes4));
+        const Lanes4 candidate = absolute * component;
+        const Bits4 larger = candidate > maxima.value[axis][half];
+        maxima.value[axis][half] =
+          Lanes4((larger & Bits4(candidate)) | (~larger & Bits4(maxima.value[axis][half])));
+        maxima.index[axis][half] = (larger & ids) | (~larger & maxima.index[axis][half]);
+      }
+    }
+  }
+}
+
 /// Spherical Fibonacci directions in the upper hemisphere with the basis evaluated at each.
 struct FibonacciTable
 {
@@ -392,12 +440,15 @@ struct FibonacciTable
   /// Basis values in blocks of kLanes directions, coefficient-major inside a block:
   /// [block][coefficient][lane], zero past `count`.
   std::vector<double> blockedBasis;
+  /// |direction components| in the same blocks: [block][axis][lane].
+  std::vector<double> blockedAbsDirections;
 
   FibonacciTable(int k, int samples) : order(k), count(samples), stride(shCoefficientCount(k))
   {
     directions.resize(count);
     const int blocks = (count + kLanes - 1) / kLanes;
     blockedBasis.assign(std::size_t(blocks) * stride * kLanes, 0.0);
+    blockedAbsDirections.assign(std::size_t(blocks) * 3 * kLanes, 0.0);
     std::vector<double> row(static_cast<std::size_t>(stride));
     for (int l = 0; l < count; ++l)
     {
@@ -406,6 +457,8 @@ struct FibonacciTable
       evaluateSH<double>(k, directions[l].x, directions[l].y, directions[l].z, row.data());
       for (int j = 0; j < stride; ++j)
         blockedBasis[(std::size_t(l / kLanes) * stride + j) * kLanes + l % kLanes] = row[std::size_t(j)];
+      for (int axis = 0; axis < 3; ++axis)
+        blockedAbsDirections[(std::size_t(l / kLanes) * 3 + axis) * kLanes + l % kLanes] = std::abs(directions[l][axis]);
     }
   }
 
@@ -553,18 +606,24 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
 {
   checkGlyphOrder(order);
   const FibonacciTable& table = fibonacciTable(order);
+  AxisMaxima maxima;
+  seriesAxisMaxima(b, table.blockedBasis.data(), table.blockedAbsDirections.data(), table.stride,
+    (table.count + FibonacciTable::kLanes - 1) / FibonacciTable::kLanes, maxima);
+  // The lanes' maxima reduced as the serial search would: the largest, the first on a tie.
   dvec3 best(0.0);
   int bestIndex[3] = { 0, 0, 0 };
-  table.forEachValue(b, [&](int l, double value)
-  {
-    const dvec3 point = glm::abs(value * table.directions[l]);
-    for (int axis = 0; axis < 3; ++axis)
-      if (point[axis] > best[axis])
+  for (int axis = 0; axis < 3; ++axis)
+    for (int half = 0; half < 2; ++half)
+      for (int lane = 0; lane < 4; ++lane)
       {
-        best[axis] = point[axis];
-        bestIndex[axis] = l;
+        const double value = maxima.value[axis][half][lane];
+        const int index = int(maxima.index[axis][half][lane]);
+        if (value > best[axis] || (value == best[axis] && value > 0.0 && index < bestIndex[axis]))
+        {
+          best[axis] = value;
+          bestIndex[axis] = index;
+        }
       }
-  });
   if (order == 0) // a sphere: its extent is known exactly
     return dvec3(std::abs(b[0]) * 0.5 / std::sqrt(kPi));
   for (int axis = 0; axis < 3; ++axis)

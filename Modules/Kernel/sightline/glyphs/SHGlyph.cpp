@@ -361,11 +361,21 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   return kept;
 }
 
+// An AVX2 clone beside the portable one, chosen when the library loads (an ELF ifunc), where
+// the compiler and platform offer it: x86-64 Linux with GCC or Clang; elsewhere the portable
+// code alone.
+#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
+#define SIGHTLINE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SIGHTLINE_AVX2_CLONES
+#endif
+
+using Lanes4 = double __attribute__((vector_size(32))); // two SSE2 registers, one AVX2 one
+
 /// out[lane] = sum over j of b[j] * block[j * 8 + lane], each summed in order of j. Cloned
 /// for AVX2 (chosen at load time, so the default build stays portable): four lanes per
 /// instruction, and without FMA contraction the same bits as the SSE2 version.
-using Lanes4 = double __attribute__((vector_size(32))); // two SSE2 registers, one AVX2 one
-__attribute__((target_clones("avx2", "default"))) void seriesValuesOfBlock(
+SIGHTLINE_AVX2_CLONES void seriesValuesOfBlock(
   const double* b, const double* block, int stride, double* out)
 {
   Lanes4 low = {}, high = {};
@@ -394,7 +404,7 @@ struct AxisMaxima
 /// The same sums as seriesValuesOfBlock for `blocks` blocks, then |F| |w[axis]| against the
 /// lanes' running maxima (strictly greater replaces, so each lane keeps its first direction).
 /// |F w[axis]| = |F| |w[axis]| exactly, so the maxima are those of the serial search.
-__attribute__((target_clones("avx2", "default"))) void seriesAxisMaxima(const double* b,
+SIGHTLINE_AVX2_CLONES void seriesAxisMaxima(const double* b,
   const double* basis, const double* absDirections, int stride, int blocks, AxisMaxima& maxima)
 {
   // Plain statements only (no helper returning a vector: that would change the default

@@ -7,6 +7,8 @@
 #include "sightline/core/Camera.h"
 #include "sightline/core/Framebuffer.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <utility>
@@ -45,5 +47,28 @@ inline RegionBlend blendRegionsInRayOrder(const std::vector<std::array<sightline
     blend.contributing += c.a > 0.0f;
   }
   return blend;
+}
+
+/// Every pixel of the regions' images blended in ray order against the whole image: opacity
+/// within alphaTolerance, premultiplied colour within colourTolerance. Counts the covered
+/// pixels and those with layers in several regions. A failed opacity check ends the comparison.
+inline void expectRegionBlendIsWhole(const std::vector<std::array<sightline::dvec3, 2>>& regions,
+  const std::vector<sightline::Framebuffer>& parts, const sightline::Framebuffer& whole,
+  const sightline::Camera& camera, float alphaTolerance, float colourTolerance, int& covered, int& split)
+{
+  covered = split = 0;
+  for (int py = 0; py < camera.height(); ++py)
+    for (int px = 0; px < camera.width(); ++px)
+    {
+      const RegionBlend blend = blendRegionsInRayOrder(regions, parts, camera, px, py);
+      const sightline::vec4 expected = whole.Color[whole.index(px, py)];
+      ASSERT_NEAR(blend.alpha, expected.a, alphaTolerance) << "pixel " << px << ", " << py;
+      if (expected.a == 0.0f)
+        continue;
+      ++covered;
+      split += blend.contributing > 1;
+      EXPECT_NEAR(glm::length(blend.premultiplied - expected.a * sightline::vec3(expected)), 0.0f, colourTolerance)
+        << "pixel " << px << ", " << py;
+    }
 }
 } // namespace sightline_test

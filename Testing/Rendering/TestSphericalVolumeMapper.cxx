@@ -71,6 +71,17 @@ struct VolumeScene
     volume->SetMapper(mapper);
     volume->SetProperty(property);
   }
+
+  /// A blue-to-yellow ramp and opacities over PREM's density range (1 to 13.1 g/cm^3).
+  void UsePREMDensityColours()
+  {
+    color->RemoveAllPoints();
+    color->AddRGBPoint(1.0, 0.1, 0.2, 0.9);
+    color->AddRGBPoint(13.1, 1.0, 0.9, 0.2);
+    opacity->RemoveAllPoints();
+    opacity->AddPoint(1.0, 0.1);
+    opacity->AddPoint(13.1, 0.5);
+  }
 };
 
 vtkSmartPointer<vtkImageData> RenderVolumeWithoutGL(
@@ -255,12 +266,7 @@ TEST(SphericalVolumeMapper, AngleConventionsAgree)
   scene.source->SetFieldToPREMDensity();
   scene.source->SetAzimuthRange(0.0, 1.5 * kPi);
   scene.source->Update();
-  scene.color->RemoveAllPoints();
-  scene.color->AddRGBPoint(1.0, 0.1, 0.2, 0.9);
-  scene.color->AddRGBPoint(13.1, 1.0, 0.9, 0.2);
-  scene.opacity->RemoveAllPoints();
-  scene.opacity->AddPoint(1.0, 0.1);
-  scene.opacity->AddPoint(13.1, 0.5);
+  scene.UsePREMDensityColours();
   auto camera = MakeCamera(false, 5.0);
   camera->SetPosition(3.0, -2.0, 2.5);
   camera->SetClippingRange(2.0, 8.0);
@@ -307,12 +313,7 @@ TEST(SphericalVolumeMapper, RegionHalvesOfTheirCellsBlendToTheWholeImage)
   scene.source->SetFieldToPREMDensity();
   scene.source->SetAzimuthRange(0.5 * kPi, 2.5 * kPi); // the seam on +y, away from the cut
   scene.source->Update();
-  scene.color->RemoveAllPoints();
-  scene.color->AddRGBPoint(1.0, 0.1, 0.2, 0.9);
-  scene.color->AddRGBPoint(13.1, 1.0, 0.9, 0.2);
-  scene.opacity->RemoveAllPoints();
-  scene.opacity->AddPoint(1.0, 0.1);
-  scene.opacity->AddPoint(13.1, 0.5);
+  scene.UsePREMDensityColours();
   scene.property->ShadeOn(); // the shading gradients need the neighbours of every cell drawn
   vtkNew<vtkTransform> placement; // a matrix that is not the identity: regions are in world space
   placement->Translate(0.4, -0.3, 0.2);

@@ -383,23 +383,7 @@ TEST(TubeTransparency, RegionImagesBlendedInVisibilityOrderGiveTheWholeImage)
       Renderer().render(opaque, camera, lighting, parts[r], options);
     }
     int covered = 0, split = 0;
-    for (int py = 0; py < camera.height(); ++py)
-      for (int px = 0; px < camera.width(); ++px)
-      {
-        const std::size_t i = whole.index(px, py);
-        const sightline_test::RegionBlend blend = sightline_test::blendRegionsInRayOrder(regions, parts, camera, px, py);
-        const vec3 premultiplied = blend.premultiplied;
-        const float alpha = blend.alpha;
-        const int contributing = blend.contributing;
-        const vec4 expected = whole.Color[i];
-        ASSERT_NEAR(alpha, expected.a, 1e-5f) << "pixel " << px << ", " << py;
-        if (expected.a == 0.0f)
-          continue;
-        ++covered;
-        split += contributing > 1;
-        EXPECT_NEAR(glm::length(premultiplied - expected.a * vec3(expected)), 0.0f, 1e-4f)
-          << "pixel " << px << ", " << py;
-      }
+    sightline_test::expectRegionBlendIsWhole(regions, parts, whole, camera, 1e-5f, 1e-4f, covered, split);
     EXPECT_GT(covered, 400);
     std::printf("camera at (%g, %g, %g): %d covered pixels, %d with layers in several regions\n",
       position.x, position.y, position.z, covered, split);

@@ -128,30 +128,6 @@ std::array<int, 3> cellsOf(const CylindricalGrid& grid)
   return { grid.radialCells(), grid.azimuthalCells(), grid.heightCells() };
 }
 
-// The regions' images blended in ray order against the whole image.
-void expectBlendIsWhole(const std::vector<std::array<dvec3, 2>>& regions, const std::vector<Framebuffer>& parts,
-  const Framebuffer& whole, const Camera& camera, float colourTolerance, int& covered, int& split)
-{
-  covered = split = 0;
-  for (int py = 0; py < camera.height(); ++py)
-    for (int px = 0; px < camera.width(); ++px)
-    {
-      const std::size_t i = whole.index(px, py);
-      const sightline_test::RegionBlend blend = sightline_test::blendRegionsInRayOrder(regions, parts, camera, px, py);
-      const vec3 premultiplied = blend.premultiplied;
-      const float alpha = blend.alpha;
-      const int contributing = blend.contributing;
-      const vec4 expected = whole.Color[i];
-      ASSERT_NEAR(alpha, expected.a, colourTolerance) << "pixel " << px << ", " << py;
-      if (expected.a == 0.0f)
-        continue;
-      ++covered;
-      split += contributing > 1;
-      EXPECT_NEAR(glm::length(premultiplied - expected.a * vec3(expected)), 0.0f, colourTolerance)
-        << "pixel " << px << ", " << py;
-    }
-}
-
 // Eight octants around a point off the centre, outer faces infinite.
 std::vector<std::array<dvec3, 2>> octants(const dvec3& cut)
 {
@@ -343,7 +319,7 @@ TEST(VolumeRegions, SubGridImagesBlendedInVisibilityOrderGiveTheWholeImage)
         renderSphericalVolume(piece, pieceCells, camera, parts[r], options);
       }
       int covered, split;
-      expectBlendIsWhole(regions, parts, wholeImage, camera, 2e-5f, covered, split);
+      sightline_test::expectRegionBlendIsWhole(regions, parts, wholeImage, camera, 2e-5f, 2e-5f, covered, split);
       std::printf("spherical section of %zu cells, camera at (%g, %g, %g): the octants hold %zu cells; %d covered "
                   "pixels, %d with layers in several octants\n",
         grid.cellCount(), position.x, position.y, position.z, heldCells, covered, split);
@@ -411,10 +387,10 @@ TEST(VolumeRegions, SubGridImagesBlendedInVisibilityOrderGiveTheWholeImage)
     }
   }
   int covered, split;
-  expectBlendIsWhole(regions, cylinderParts, wholeCylinder, camera, 2e-5f, covered, split);
+  sightline_test::expectRegionBlendIsWhole(regions, cylinderParts, wholeCylinder, camera, 2e-5f, 2e-5f, covered, split);
   std::printf("cylindrical: %d covered pixels, %d with layers in several octants\n", covered, split);
   EXPECT_GT(split, 100);
-  expectBlendIsWhole(regions, pointParts, wholePoints, camera, 1e-3f, covered, split);
+  sightline_test::expectRegionBlendIsWhole(regions, pointParts, wholePoints, camera, 1e-3f, 1e-3f, covered, split);
   std::printf("spherical point data: %d covered pixels, %d with layers in several octants\n", covered, split);
   EXPECT_GT(split, 100);
   std::printf("cut at (%g, %g, %g): %d octant ranges run across the seam\n", cut.x, cut.y, cut.z, seamRuns);

@@ -35,6 +35,13 @@ EmbreeDevice::EmbreeDevice()
     throw std::runtime_error(std::string("sightline: could not create an Embree device: ") +
       errorName(rtcGetDeviceError(nullptr)));
   rtcSetDeviceMemoryMonitorFunction(Device, &EmbreeDevice::memoryMonitor, this);
+  // Larger packets than the machine's vectors are split by Embree's stream code: no gain.
+  if (rtcGetDeviceProperty(Device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
+    PacketSize = 16;
+  else if (rtcGetDeviceProperty(Device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+    PacketSize = 8;
+  else if (rtcGetDeviceProperty(Device, RTC_DEVICE_PROPERTY_NATIVE_RAY4_SUPPORTED))
+    PacketSize = 4;
 }
 
 EmbreeDevice::~EmbreeDevice()
@@ -182,12 +189,83 @@ bool EmbreeScene::intersect(RTCRayHit& rayhit, bool coherent) const
 
 namespace
 {
-/// A context whose primitives intersect `ray` while Embree traverses its float rounding.
-void initDoubleTrace(TraceContext& context, const DoubleRay& ray)
+/// A context whose primitives intersect `trace.ray` while Embree traverses its float rounding.
+void initDoubleTrace(TraceContext& context, DoubleRayTrace& trace, const DoubleRay& ray)
 {
   rtcInitIntersectContext(&context.embree);
-  context.hasDoubleRay = true;
-  context.ray = ray;
+  trace.ray = ray;
+  context.doubleRays = &trace;
+}
+
+/// The nearest hit Embree found for a double ray: the double t its primitive reported, or
+/// Embree's float t when a built-in float geometry was nearer.
+void readHit(const DoubleRayTrace& trace, unsigned geomID, unsigned primID, float embreeFar,
+  const vec3& normal, SceneHit& hit)
+{
+  const bool userHit = geomID == trace.tfarGeomID && primID == trace.tfarPrimID;
+  hit.t = userHit ? trace.ray.tfar : double(embreeFar);
+  hit.normal = normal;
+  hit.geomID = geomID;
+  hit.primID = primID;
+}
+
+void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitNt<4>& rh)
+{
+  rtcIntersect4(valid, scene, context, reinterpret_cast<RTCRayHit4*>(&rh));
+}
+void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitNt<8>& rh)
+{
+  rtcIntersect8(valid, scene, context, reinterpret_cast<RTCRayHit8*>(&rh));
+}
+void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitNt<16>& rh)
+{
+  rtcIntersect16(valid, scene, context, reinterpret_cast<RTCRayHit16*>(&rh));
+}
+
+/// Traces rays[0, count) (count <= K) as one Embree packet of K lanes; lane i has ray id i.
+template <int K>
+void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active, int count,
+  SceneHit* hits, bool* found, bool coherent)
+{
+  alignas(64) RTCRayHitNt<K> rh;
+  alignas(64) int valid[K];
+  DoubleRayTrace traces[K];
+  for (int i = 0; i < K; ++i)
+  {
+    valid[i] = i < count && active[i] ? -1 : 0;
+    if (!valid[i])
+      continue;
+    traces[i].ray = rays[i];
+    const Ray ray = rays[i].rounded();
+    rh.ray.org_x[i] = ray.origin.x;
+    rh.ray.org_y[i] = ray.origin.y;
+    rh.ray.org_z[i] = ray.origin.z;
+    rh.ray.tnear[i] = ray.tnear;
+    rh.ray.dir_x[i] = ray.direction.x;
+    rh.ray.dir_y[i] = ray.direction.y;
+    rh.ray.dir_z[i] = ray.direction.z;
+    rh.ray.time[i] = 0.0f;
+    rh.ray.tfar[i] = ray.tfar;
+    rh.ray.mask[i] = ~0u;
+    rh.ray.id[i] = unsigned(i);
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  if (coherent)
+    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  context.doubleRays = traces;
+  intersectNative(valid, scene, &context.embree, rh);
+  for (int i = 0; i < count; ++i)
+  {
+    found[i] = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+    if (found[i])
+      readHit(traces[i], rh.hit.geomID[i], rh.hit.primID[i], rh.ray.tfar[i],
+        vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), hits[i]);
+  }
 }
 } // namespace
 
@@ -198,25 +276,39 @@ bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) 
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   TraceContext context;
-  initDoubleTrace(context, ray);
+  DoubleRayTrace trace;
+  initDoubleTrace(context, trace, ray);
   if (coherent)
     context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   rtcIntersect1(Scene, &context.embree, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
     return false;
-  const bool userHit = rh.hit.geomID == context.tfarGeomID && rh.hit.primID == context.tfarPrimID;
-  hit.t = userHit ? context.ray.tfar : double(rh.ray.tfar);
-  hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  hit.geomID = rh.hit.geomID;
-  hit.primID = rh.hit.primID;
+  readHit(trace, rh.hit.geomID, rh.hit.primID, rh.ray.tfar, vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
   return true;
+}
+
+void EmbreeScene::intersectPacket(const DoubleRay* rays, const bool* active, int count,
+  SceneHit* hits, bool* found, bool coherent) const
+{
+  if (count < 1 || count > kMaxPacket)
+    throw std::invalid_argument("sightline::EmbreeScene::intersectPacket: " + std::to_string(count) +
+      " rays, expected 1 to " + std::to_string(kMaxPacket));
+  if (count == 1)
+    found[0] = active[0] && intersect(rays[0], hits[0], coherent);
+  else if (count <= 4)
+    intersectPacketOf<4>(Scene, rays, active, count, hits, found, coherent);
+  else if (count <= 8)
+    intersectPacketOf<8>(Scene, rays, active, count, hits, found, coherent);
+  else
+    intersectPacketOf<16>(Scene, rays, active, count, hits, found, coherent);
 }
 
 bool EmbreeScene::occluded(const DoubleRay& ray) const
 {
   RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  initDoubleTrace(context, ray);
+  DoubleRayTrace trace;
+  initDoubleTrace(context, trace, ray);
   rtcOccluded1(Scene, &context.embree, &rh.ray);
   return rh.ray.tfar < 0.0f;
 }
@@ -225,7 +317,8 @@ double EmbreeScene::insideLength(const DoubleRay& ray, float& firstEntry) const
 {
   RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  initDoubleTrace(context, ray);
+  DoubleRayTrace trace;
+  initDoubleTrace(context, trace, ray);
   context.volumeQuery = true;
   rtcIntersect1(Scene, &context.embree, &rh);
   firstEntry = context.firstEntry;
@@ -236,7 +329,8 @@ void EmbreeScene::insideIntervals(const DoubleRay& ray, std::vector<InsideInterv
 {
   RTCRayHit rh = makeRayHit(ray.rounded());
   TraceContext context;
-  initDoubleTrace(context, ray);
+  DoubleRayTrace trace;
+  initDoubleTrace(context, trace, ray);
   context.intervals = &out;
   rtcIntersect1(Scene, &context.embree, &rh);
 }

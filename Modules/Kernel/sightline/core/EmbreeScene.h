@@ -26,6 +26,9 @@ public:
   RTCDevice handle() const { return Device; }
   /// Bytes Embree currently holds (BVHs and their builders' scratch freed after the build).
   std::int64_t allocatedBytes() const { return Allocated.load(); }
+  /// Rays per packet Embree traces natively here (16 with AVX-512, 8 with AVX, 4 with SSE; 1
+  /// when built without packet support): the packet size the renderer gives intersectPacket.
+  int packetSize() const { return PacketSize; }
   /// Throws std::runtime_error if Embree recorded an error since the last check.
   void throwOnError(const char* what) const;
 
@@ -36,6 +39,7 @@ private:
   static bool memoryMonitor(void* user, std::ptrdiff_t bytes, bool post);
   RTCDevice Device = nullptr;
   std::atomic<std::int64_t> Allocated{ 0 };
+  int PacketSize = 1;
 };
 
 /// The nearest hit of a double-precision ray.
@@ -62,6 +66,7 @@ public:
   void commit();
 
   bool empty() const { return Geometries.empty(); }
+  const EmbreeDevice& device() const { return *Device; }
   const Geometry& geometry(unsigned geomID) const { return *Geometries[geomID]; }
   RTCScene handle() const { return Scene; }
   Box3 bounds() const;
@@ -75,6 +80,14 @@ public:
   /// Nearest hit along the ray; true if something was hit. Embree traverses the float rounding
   /// of the ray, the primitives intersect the double ray itself.
   bool intersect(const DoubleRay& ray, SceneHit& hit, bool coherent = false) const;
+  /// The most rays intersectPacket takes.
+  static constexpr int kMaxPacket = 16;
+  /// Nearest hits of rays[0, count) traced together as one Embree packet (count <= kMaxPacket,
+  /// best device().packetSize()): coherent rays, such as a tile's primary rays, share the BVH
+  /// nodes they visit. found[i] tells whether rays[i] hit (then hits[i] is set); rays whose
+  /// `active` is false are not traced. Each ray gets the hit intersect() would give it.
+  void intersectPacket(const DoubleRay* rays, const bool* active, int count, SceneHit* hits,
+    bool* found, bool coherent = true) const;
   /// The same for a float ray given as Embree's (rayhit.hit and rayhit.ray.tfar filled in).
   bool intersect(RTCRayHit& rayhit, bool coherent = false) const;
   /// Whether anything lies on the ray in [tnear, tfar].

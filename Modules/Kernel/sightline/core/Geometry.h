@@ -78,6 +78,16 @@ public:
   Material material;
 };
 
+/// A double-precision ray that Embree traverses as its float rounding, with its tfar lowered to
+/// each hit the primitives report. The ids of the hit that set tfar tell whether Embree's final
+/// hit is that one (not a nearer one on a built-in float geometry).
+struct DoubleRayTrace
+{
+  DoubleRay ray;
+  unsigned tfarGeomID = RTC_INVALID_GEOMETRY_ID;
+  unsigned tfarPrimID = RTC_INVALID_GEOMETRY_ID;
+};
+
 /// Embree context of every trace. In a volume or union query the user geometries do not report
 /// hits: Embree then visits every box along the ray and each primitive adds the length the ray
 /// spends inside it, or its inside intervals. (This is the multi-hit traversal the paper builds
@@ -92,14 +102,11 @@ struct TraceContext
   /// instead of reporting hits, so Embree visits every box along the ray.
   std::vector<InsideInterval>* intervals = nullptr;
   float firstEntry = kInfinity;
-  /// The double-precision ray of a single-ray trace (Embree traverses its float rounding), its
-  /// tfar lowered to each hit: primitives intersect this ray, not Embree's. Unused when a
-  /// caller traced a float ray of its own. The ids of the hit that set tfar tell whether
-  /// Embree's final hit is that one (not a nearer one on a built-in float geometry).
-  bool hasDoubleRay = false;
-  DoubleRay ray;
-  unsigned tfarGeomID = RTC_INVALID_GEOMETRY_ID;
-  unsigned tfarPrimID = RTC_INVALID_GEOMETRY_ID;
+  /// The double-precision rays of the trace, indexed by Embree's ray id (a packet's lane; 0 for
+  /// a single ray): primitives intersect these, not Embree's float rays. Embree may regroup a
+  /// packet's rays before calling back, and keeps their ids. Null when a caller traced a float
+  /// ray of its own.
+  DoubleRayTrace* doubleRays = nullptr;
 };
 
 /// Boxes handed to Embree are widened by this fraction of their largest coordinate (about 8 float
@@ -155,12 +162,19 @@ private:
     args->bounds_o->upper_z = box.upper.z;
   }
 
-  /// The trace's double ray when it has one (no copy), else Embree's float ray in `scratch`.
+  /// The trace's double ray for this lane when it has one (no copy), else Embree's float ray
+  /// in `scratch`.
   static const DoubleRay& loadRay(
     const TraceContext* trace, RTCRayN* rays, unsigned n, unsigned i, DoubleRay& scratch)
   {
-    if (trace->hasDoubleRay && n == 1)
-      return trace->ray;
+    if (trace->doubleRays)
+    {
+      // Embree's tfar is the nearest hit so far: one of ours rounded up, or a built-in float
+      // geometry's (triangles), which the double ray has not seen. Nothing beyond counts.
+      DoubleRay& ray = trace->doubleRays[RTCRayN_id(rays, n, i)].ray;
+      ray.tfar = std::min(ray.tfar, double(RTCRayN_tfar(rays, n, i)));
+      return ray;
+    }
     return scratch = DoubleRay(
       dvec3(RTCRayN_org_x(rays, n, i), RTCRayN_org_y(rays, n, i), RTCRayN_org_z(rays, n, i)),
       dvec3(RTCRayN_dir_x(rays, n, i), RTCRayN_dir_y(rays, n, i), RTCRayN_dir_z(rays, n, i)),
@@ -197,12 +211,13 @@ private:
       if (!self->intersect(args->primID, loadRay(trace, rays, args->N, i, scratch), hit))
         continue;
       float embreeFar = float(hit.t);
-      if (trace->hasDoubleRay && args->N == 1)
+      if (trace->doubleRays)
       {
         // Embree culls boxes by its float tfar: round up, so nothing before the hit is culled.
-        trace->ray.tfar = hit.t;
-        trace->tfarGeomID = args->geomID;
-        trace->tfarPrimID = args->primID;
+        DoubleRayTrace& lane = trace->doubleRays[RTCRayN_id(rays, args->N, i)];
+        lane.ray.tfar = hit.t;
+        lane.tfarGeomID = args->geomID;
+        lane.tfarPrimID = args->primID;
         embreeFar = floatAtLeast(hit.t);
       }
       RTCRayN_tfar(rays, args->N, i) = embreeFar;

@@ -37,6 +37,8 @@ struct FrameContext
   Box3 translucentBounds;
   /// RenderOptions' region is not all of space: primary rays are clipped to it.
   bool regionClipped;
+  /// Primary rays traced together (EmbreeDevice::packetSize).
+  int packetSize;
 };
 
 constexpr int kMaxShadowedLights = 16;
@@ -220,11 +222,11 @@ double compositeTranslucent(const FrameContext& frame, const DoubleRay& ray, vec
   return nearest;
 }
 
-/// Traces the primary ray of pixel (x, y); returns whether it hit an opaque surface.
-bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, PixelScratch& scratch)
+/// The primary ray of pixel (x, y), stopped at the depth limit and clipped to the region;
+/// false when the region leaves nothing of it.
+bool primaryRay(const FrameContext& frame, int x, int y, std::size_t i, DoubleRay& ray)
 {
-  DoubleRay ray = frame.camera.doublePrimaryRay(x + 0.5, y + 0.5);
-  const std::size_t i = fb.index(x, y);
+  ray = frame.camera.doublePrimaryRay(x + 0.5, y + 0.5);
   if (frame.options.depthLimit)
   {
     // Stop at opaque geometry drawn by someone else (direction is unit: t is a distance).
@@ -241,8 +243,14 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
           ray.tnear, ray.tfar))
       return false;
   }
-  SceneHit sceneHit;
-  const bool hit = !frame.scene.empty() && frame.scene.intersect(ray, sceneHit, true);
+  return true;
+}
+
+/// Finishes pixel (x, y) from its primary ray and the opaque hit found along it (none when
+/// `hit` is false): shading, shadows, volumes and translucent layers. Returns `hit`.
+bool shadePixel(const FrameContext& frame, int x, int y, std::size_t i, const DoubleRay& ray,
+  bool hit, const SceneHit& sceneHit, Framebuffer& fb, PixelScratch& scratch)
+{
   const VolumeOptions& volumes = frame.options.volumes;
   const bool withVolumes = volumes.scene && !volumes.scene->empty();
   const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
@@ -303,11 +311,64 @@ bool renderPixel(const FrameContext& frame, int x, int y, Framebuffer& fb, Pixel
   fb.Distance[i] = float(depthT * worldScale);
   return hit;
 }
+/// Pixels of one packet: a block of the tile, so that the rays are coherent.
+struct PacketShape
+{
+  int columns, rows;
+};
+
+PacketShape packetShape(int size)
+{
+  switch (size)
+  {
+    case 16: return { 4, 4 };
+    case 8: return { 4, 2 };
+    case 4: return { 2, 2 };
+    default: return { 1, 1 };
+  }
+}
+
+/// Renders the block of the packet's shape whose lower-left pixel is (x0, y0), clipped to the
+/// tile `r`: the primary rays are traced together, then each pixel is finished on its own.
+/// Returns the number of opaque hits.
+std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
+  const tbb::blocked_range2d<int>& r, Framebuffer& fb, PixelScratch& scratch)
+{
+  constexpr int kMax = EmbreeScene::kMaxPacket;
+  const PacketShape shape = packetShape(frame.packetSize);
+  DoubleRay rays[kMax];
+  bool active[kMax];
+  SceneHit hits[kMax];
+  bool found[kMax] = {};
+  std::size_t pixels[kMax];
+  int count = 0;
+  for (int y = y0; y < y0 + shape.rows; ++y)
+    for (int x = x0; x < x0 + shape.columns; ++x, ++count)
+    {
+      active[count] = y < r.rows().end() && x < r.cols().end();
+      if (!active[count])
+        continue;
+      pixels[count] = fb.index(x, y);
+      active[count] = primaryRay(frame, x, y, pixels[count], rays[count]);
+    }
+  if (!frame.scene.empty())
+    frame.scene.intersectPacket(rays, active, count, hits, found, true);
+  std::size_t opaque = 0;
+  for (int lane = 0; lane < count; ++lane)
+    if (active[lane])
+      opaque += shadePixel(frame, x0 + lane % shape.columns, y0 + lane / shape.columns,
+        pixels[lane], rays[lane], found[lane], hits[lane], fb, scratch);
+  return opaque;
+}
 } // namespace
 
 RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera,
   const Lighting& lighting, Framebuffer& framebuffer, const RenderOptions& options) const
 {
+  if (options.packetSize != 0 && options.packetSize != 1 && options.packetSize != 4 &&
+    options.packetSize != 8 && options.packetSize != 16)
+    throw std::invalid_argument("sightline::Renderer: packet size " +
+      std::to_string(options.packetSize) + " is not 0 (native), 1, 4, 8 or 16");
   const auto start = std::chrono::steady_clock::now();
   framebuffer.resize(camera.width(), camera.height());
   if (options.primitiveIds)
@@ -339,7 +400,10 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
   const FrameContext frame{ scene, camera, lighting, options, options.objectToWorld,
     glm::mat3(glm::transpose(glm::inverse(glm::dmat3(options.objectToWorld)))),
     glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap, translucentSegment, translucentBounds,
-    options.regionLower != dvec3(-kInfinity) || options.regionUpper != dvec3(kInfinity) };
+    options.regionLower != dvec3(-kInfinity) || options.regionUpper != dvec3(kInfinity),
+    options.packetSize ? options.packetSize : scene.device().packetSize() };
+  const PacketShape packet = packetShape(frame.packetSize);
+  const int packetColumns = packet.columns, packetRows = packet.rows;
 
   // Bands of tile rows, rendered one after another so that progress is reported (and a cancel
   // honoured) on the calling thread; tiles within a band run in parallel.
@@ -359,9 +423,9 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
       {
         PixelScratch& scratch = scratches.local();
         std::size_t local = 0;
-        for (int y = r.rows().begin(); y < r.rows().end(); ++y)
-          for (int x = r.cols().begin(); x < r.cols().end(); ++x)
-            local += renderPixel(frame, x, y, framebuffer, scratch);
+        for (int y = r.rows().begin(); y < r.rows().end(); y += packetRows)
+          for (int x = r.cols().begin(); x < r.cols().end(); x += packetColumns)
+            local += renderPacket(frame, x, y, r, framebuffer, scratch);
         hits.local() += local;
       });
     if (options.progress && !options.progress(double(band + 1) / bands))

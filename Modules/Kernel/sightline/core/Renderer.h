@@ -66,6 +66,10 @@ struct RenderOptions
   bool primitiveIds = false;
   /// Tiles are the unit of parallel work; 16x16 pixels keep rays coherent.
   int tileSize = 16;
+  /// Primary rays traced together as one Embree packet (a 4x4, 4x2 or 2x2 block of a tile):
+  /// 0 takes the machine's native size (EmbreeDevice::packetSize); 1, 4, 8 or 16 force one,
+  /// 1 tracing ray by ray. Every size gives the same image.
+  int packetSize = 0;
   /// Transform from the scene's coordinates to world coordinates (a VTK actor's matrix).
   /// The camera must then map scene coordinates to clip space (worldToClip * objectToWorld);
   /// normals are taken to world space with the inverse transpose before shading.

@@ -32,6 +32,7 @@
 #include "sightline/core/Camera.h"
 #include "sightline/core/EmbreeScene.h"
 #include "sightline/core/Framebuffer.h"
+#include "sightline/core/Renderer.h"
 #include "sightline/core/Shading.h"
 #include "sightline/spheres/SphereSet.h"
 
@@ -223,35 +224,51 @@ void traceReference(const sightline::EmbreeScene& scene, const sightline::Camera
   framebuffer.resize(camera.width(), camera.height());
   const sightline::Geometry& geometry = scene.geometry(0);
   const sightline::Material material; // vtkProperty's defaults, as the VTK methods use
+  // Packets of the machine's native size over blocks of each tile, as Sightline traces.
+  const int packetSize = scene.device().packetSize();
+  const sightline::PacketBlock block = sightline::packetBlock(packetSize);
   tbb::parallel_for(tbb::blocked_range2d<int>(0, camera.height(), 16, 0, camera.width(), 16),
     [&](const tbb::blocked_range2d<int>& tile)
     {
-      for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
+      for (int y0 = tile.rows().begin(); y0 < tile.rows().end(); y0 += block.rows)
       {
-        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x)
+        for (int x0 = tile.cols().begin(); x0 < tile.cols().end(); x0 += block.columns)
         {
-          const sightline::Ray ray = camera.primaryRay(x + 0.5, y + 0.5);
-          RTCRayHit rayhit = sightline::makeRayHit(ray);
-          if (!scene.intersect(rayhit, true)) // coherent primary rays, as Sightline traces
+          sightline::DoubleRay rays[sightline::EmbreeScene::kMaxPacket];
+          bool active[sightline::EmbreeScene::kMaxPacket];
+          sightline::SceneHit hits[sightline::EmbreeScene::kMaxPacket];
+          bool found[sightline::EmbreeScene::kMaxPacket];
+          for (int lane = 0; lane < packetSize; ++lane)
           {
-            continue;
+            const int x = x0 + lane % block.columns, y = y0 + lane / block.columns;
+            active[lane] = x < tile.cols().end() && y < tile.rows().end();
+            // Embree traces the float rounding of the ray (its built-in spheres are float).
+            rays[lane] = sightline::DoubleRay(camera.primaryRay(x + 0.5, y + 0.5));
           }
-          const sightline::vec3 toViewer = -ray.direction;
-          sightline::vec3 normal =
-            glm::normalize(sightline::vec3(rayhit.hit.Ng_x, rayhit.hit.Ng_y, rayhit.hit.Ng_z));
-          if (glm::dot(normal, toViewer) < 0.0f)
+          scene.intersectPacket(rays, active, packetSize, hits, found, true);
+          for (int lane = 0; lane < packetSize; ++lane)
           {
-            normal = -normal;
+            if (!found[lane])
+            {
+              continue;
+            }
+            const sightline::Ray ray = rays[lane].rounded();
+            const sightline::vec3 toViewer = -ray.direction;
+            sightline::vec3 normal = glm::normalize(hits[lane].normal);
+            if (glm::dot(normal, toViewer) < 0.0f)
+            {
+              normal = -normal;
+            }
+            const sightline::vec3 color = geometry.primitiveColor(hits[lane].primID);
+            const sightline::vec3 rgb =
+              sightline::shade(material, color, color, normal, toViewer, lighting);
+            const sightline::dvec3 hitPoint =
+              sightline::dvec3(ray.origin) + hits[lane].t * sightline::dvec3(ray.direction);
+            const std::size_t i = framebuffer.index(x0 + lane % block.columns, y0 + lane / block.columns);
+            framebuffer.Color[i] = sightline::vec4(rgb, 1.0f);
+            framebuffer.Depth[i] = float(std::clamp(camera.windowDepth(hitPoint), 0.0, 1.0));
+            framebuffer.Distance[i] = float(hits[lane].t);
           }
-          const sightline::vec3 color = geometry.primitiveColor(rayhit.hit.primID);
-          const sightline::vec3 rgb =
-            sightline::shade(material, color, color, normal, toViewer, lighting);
-          const sightline::dvec3 hitPoint = sightline::dvec3(ray.origin) +
-            double(rayhit.ray.tfar) * sightline::dvec3(ray.direction);
-          const std::size_t i = framebuffer.index(x, y);
-          framebuffer.Color[i] = sightline::vec4(rgb, 1.0f);
-          framebuffer.Depth[i] = float(std::clamp(camera.windowDepth(hitPoint), 0.0, 1.0));
-          framebuffer.Distance[i] = rayhit.ray.tfar;
         }
       }
     });

@@ -311,23 +311,6 @@ bool shadePixel(const FrameContext& frame, int x, int y, std::size_t i, const Do
   fb.Distance[i] = float(depthT * worldScale);
   return hit;
 }
-/// Pixels of one packet: a block of the tile, so that the rays are coherent.
-struct PacketShape
-{
-  int columns, rows;
-};
-
-PacketShape packetShape(int size)
-{
-  switch (size)
-  {
-    case 16: return { 4, 4 };
-    case 8: return { 4, 2 };
-    case 4: return { 2, 2 };
-    default: return { 1, 1 };
-  }
-}
-
 /// Renders the block of the packet's shape whose lower-left pixel is (x0, y0), clipped to the
 /// tile `r`: the primary rays are traced together, then each pixel is finished on its own.
 /// Returns the number of opaque hits.
@@ -335,7 +318,7 @@ std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
   const tbb::blocked_range2d<int>& r, Framebuffer& fb, PixelScratch& scratch)
 {
   constexpr int kMax = EmbreeScene::kMaxPacket;
-  const PacketShape shape = packetShape(frame.packetSize);
+  const PacketBlock shape = packetBlock(frame.packetSize);
   DoubleRay rays[kMax];
   bool active[kMax];
   SceneHit hits[kMax];
@@ -361,6 +344,17 @@ std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
   return opaque;
 }
 } // namespace
+
+PacketBlock packetBlock(int packetSize)
+{
+  switch (packetSize)
+  {
+    case 16: return { 4, 4 };
+    case 8: return { 4, 2 };
+    case 4: return { 2, 2 };
+    default: return { 1, 1 };
+  }
+}
 
 RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera,
   const Lighting& lighting, Framebuffer& framebuffer, const RenderOptions& options) const
@@ -402,7 +396,7 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
     glm::inverse(glm::dmat3(options.objectToWorld)), identity, unionGap, translucentSegment, translucentBounds,
     options.regionLower != dvec3(-kInfinity) || options.regionUpper != dvec3(kInfinity),
     options.packetSize ? options.packetSize : scene.device().packetSize() };
-  const PacketShape packet = packetShape(frame.packetSize);
+  const PacketBlock packet = packetBlock(frame.packetSize);
   const int packetColumns = packet.columns, packetRows = packet.rows;
 
   // Bands of tile rows, rendered one after another so that progress is reported (and a cancel

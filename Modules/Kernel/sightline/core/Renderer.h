@@ -97,6 +97,14 @@ struct RenderStatistics
   bool completed = true;
 };
 
+/// The block of pixels whose primary rays one packet of `packetSize` rays traces (4x4, 4x2,
+/// 2x2, else 1x1), so that they are coherent; lane = column + columns * row.
+struct PacketBlock
+{
+  int columns, rows;
+};
+PacketBlock packetBlock(int packetSize);
+
 class Renderer
 {
 public:

@@ -222,14 +222,12 @@ void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* cont
   rtcIntersect16(valid, scene, context, reinterpret_cast<RTCRayHit16*>(&rh));
 }
 
-/// Traces rays[0, count) (count <= K) as one Embree packet of K lanes; lane i has ray id i.
+/// Fills lanes [0, count) of a K-wide packet with the float rounding of the active rays (ray id
+/// = lane) and their double rays; the other lanes are invalid.
 template <int K>
-void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active, int count,
-  SceneHit* hits, bool* found, bool coherent)
+void fillPacket(RTCRayHitNt<K>& rh, int* valid, DoubleRayTrace* traces, const DoubleRay* rays,
+  const bool* active, int count)
 {
-  alignas(64) RTCRayHitNt<K> rh;
-  alignas(64) int valid[K];
-  DoubleRayTrace traces[K];
   for (int i = 0; i < K; ++i)
   {
     valid[i] = i < count && active[i] ? -1 : 0;
@@ -253,6 +251,17 @@ void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active
     rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
+}
+
+/// Traces rays[0, count) (count <= K) as one Embree packet of K lanes for their nearest hits.
+template <int K>
+void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active, int count,
+  SceneHit* hits, bool* found, bool coherent)
+{
+  alignas(64) RTCRayHitNt<K> rh;
+  alignas(64) int valid[K];
+  DoubleRayTrace traces[K];
+  fillPacket<K>(rh, valid, traces, rays, active, count);
   TraceContext context;
   rtcInitIntersectContext(&context.embree);
   if (coherent)
@@ -266,6 +275,30 @@ void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active
       readHit(traces[i], rh.hit.geomID[i], rh.hit.primID[i], rh.ray.tfar[i],
         vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), hits[i]);
   }
+}
+
+/// Traces rays[0, count) (count <= K) as one packet collecting each lane's inside intervals.
+template <int K>
+void insideIntervalsPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active, int count,
+  std::vector<InsideInterval>* out)
+{
+  alignas(64) RTCRayHitNt<K> rh;
+  alignas(64) int valid[K];
+  DoubleRayTrace traces[K];
+  fillPacket<K>(rh, valid, traces, rays, active, count);
+  TraceContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.doubleRays = traces;
+  context.intervals = out;
+  intersectNative(valid, scene, &context.embree, rh);
+}
+
+/// Checks a packet's ray count.
+void checkPacketCount(const char* what, int count)
+{
+  if (count < 1 || count > EmbreeScene::kMaxPacket)
+    throw std::invalid_argument(std::string("sightline::EmbreeScene::") + what + ": " +
+      std::to_string(count) + " rays, expected 1 to " + std::to_string(EmbreeScene::kMaxPacket));
 }
 } // namespace
 
@@ -290,9 +323,7 @@ bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) 
 void EmbreeScene::intersectPacket(const DoubleRay* rays, const bool* active, int count,
   SceneHit* hits, bool* found, bool coherent) const
 {
-  if (count < 1 || count > kMaxPacket)
-    throw std::invalid_argument("sightline::EmbreeScene::intersectPacket: " + std::to_string(count) +
-      " rays, expected 1 to " + std::to_string(kMaxPacket));
+  checkPacketCount("intersectPacket", count);
   if (count == 1)
     found[0] = active[0] && intersect(rays[0], hits[0], coherent);
   else if (count <= 4)
@@ -333,5 +364,22 @@ void EmbreeScene::insideIntervals(const DoubleRay& ray, std::vector<InsideInterv
   initDoubleTrace(context, trace, ray);
   context.intervals = &out;
   rtcIntersect1(Scene, &context.embree, &rh);
+}
+
+void EmbreeScene::insideIntervalsPacket(const DoubleRay* rays, const bool* active, int count,
+  std::vector<InsideInterval>* out) const
+{
+  checkPacketCount("insideIntervalsPacket", count);
+  if (count == 1)
+  {
+    if (active[0])
+      insideIntervals(rays[0], out[0]);
+  }
+  else if (count <= 4)
+    insideIntervalsPacketOf<4>(Scene, rays, active, count, out);
+  else if (count <= 8)
+    insideIntervalsPacketOf<8>(Scene, rays, active, count, out);
+  else
+    insideIntervalsPacketOf<16>(Scene, rays, active, count, out);
 }
 } // namespace sightline

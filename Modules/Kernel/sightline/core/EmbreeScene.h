@@ -99,6 +99,10 @@ public:
   /// Appends the inside intervals (Geometry::insideIntervals) of every primitive whose box the
   /// ray segment [tnear, tfar] crosses; the intervals themselves are not clipped.
   void insideIntervals(const DoubleRay& ray, std::vector<InsideInterval>& out) const;
+  /// The same for rays[0, count) traced together as one packet (count <= kMaxPacket): ray i's
+  /// intervals are appended to out[i]; rays whose `active` is false are not traced.
+  void insideIntervalsPacket(const DoubleRay* rays, const bool* active, int count,
+    std::vector<InsideInterval>* out) const;
 
 private:
   std::shared_ptr<EmbreeDevice> Device;

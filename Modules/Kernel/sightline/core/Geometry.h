@@ -98,8 +98,9 @@ struct TraceContext
   RTCIntersectContext embree; ///< first member, so Embree's pointer is also ours
   bool volumeQuery = false;
   double insideLength = 0.0;
-  /// Union query (translucent tubes): when set, primitives append their inside intervals here
-  /// instead of reporting hits, so Embree visits every box along the ray.
+  /// Union query (translucent tubes): when set, primitives append their inside intervals to
+  /// the list of the ray's id (a packet's lane; 0 for a single ray) instead of reporting hits,
+  /// so Embree visits every box along the ray.
   std::vector<InsideInterval>* intervals = nullptr;
   float firstEntry = kInfinity;
   /// The double-precision rays of the trace, indexed by Embree's ray id (a packet's lane; 0 for
@@ -194,10 +195,11 @@ private:
         continue;
       if (trace->intervals)
       {
-        const std::size_t before = trace->intervals->size();
-        self->insideIntervals(args->primID, loadRay(trace, rays, args->N, i, scratch), *trace->intervals);
-        for (std::size_t k = before; k < trace->intervals->size(); ++k)
-          (*trace->intervals)[k].geometry = args->geomID;
+        std::vector<InsideInterval>& out = trace->intervals[RTCRayN_id(rays, args->N, i)];
+        const std::size_t before = out.size();
+        self->insideIntervals(args->primID, loadRay(trace, rays, args->N, i, scratch), out);
+        for (std::size_t k = before; k < out.size(); ++k)
+          out[k].geometry = args->geomID;
         continue;
       }
       if (trace->volumeQuery)

@@ -126,7 +126,7 @@ struct PixelScratch
 {
   std::size_t shadowRays = 0;
   std::size_t translucentSurfaces = 0;
-  std::vector<InsideInterval> intervals;
+  std::vector<InsideInterval> intervals[EmbreeScene::kMaxPacket]; ///< per lane
   std::vector<UnionSurface> surfaces;
 };
 
@@ -153,73 +153,118 @@ ShadingFrame orientNormal(const FrameContext& frame, vec3 objectNormal, const ve
   return s;
 }
 
-/// Composites the union surfaces of the translucent scene in (ray.tnear, ray.tfar) front to
-/// back over `color` (not premultiplied); returns the nearest surface's t, or infinity.
-/// The ray is traced in segments of doubling length so that once the layers saturate nothing
-/// farther is visited. Each segment collects every solid overlapping it (their intervals are
-/// not clipped), so the union's surfaces inside the segment are exact; a solid spanning two
-/// segments is seen in both, and only surfaces within each segment's range are drawn.
-double compositeTranslucent(const FrameContext& frame, const DoubleRay& ray, vec4& color, PixelScratch& scratch)
+/// Where one ray of a packet stands in the translucent scene.
+struct TranslucentLane
 {
-  const EmbreeScene& scene = *frame.options.translucent.scene;
-  vec3 premultiplied(0.0f);
+  double segmentStart = 0.0, segmentEnd = 0.0, rayEnd = 0.0, segmentLength = 0.0;
+  vec3 premultiplied{ 0.0f };
   float alpha = 0.0f;
   double nearest = kInfinity;
-  bool saturated = false;
-  // Segments start where the ray enters the scene's box, not at the near plane.
-  double segmentStart = ray.tnear, rayEnd = ray.tfar;
-  if (!clipToBox(ray.origin, ray.direction, dvec3(frame.translucentBounds.lower),
-        dvec3(frame.translucentBounds.upper), segmentStart, rayEnd))
-    return kInfinity;
-  // Back off by the merge gap so a surface right at the box's face is not lost.
-  segmentStart = std::max(ray.tnear, segmentStart - frame.unionGap);
-  rayEnd = std::min(ray.tfar, rayEnd + frame.unionGap);
-  double segmentLength = frame.translucentSegment;
-  while (!saturated && segmentStart < rayEnd)
+};
+
+/// Composites, for each active lane, the union surfaces of the translucent scene in
+/// (rays[lane].tnear, rays[lane].tfar) front to back over colors[lane] (not premultiplied);
+/// nearest[lane] receives the nearest surface's t, or infinity. Each ray is traced in segments
+/// of growing length, so that once its layers saturate nothing farther is visited; the lanes'
+/// segments are traced together as one packet. Each segment collects every solid overlapping it
+/// (their intervals are not clipped), so the union's surfaces inside the segment are exact; a
+/// solid spanning two segments is seen in both, and only surfaces within each segment's range
+/// are drawn.
+void compositeTranslucent(const FrameContext& frame, const DoubleRay* rays, const bool* active,
+  int count, vec4* colors, double* nearest, PixelScratch& scratch)
+{
+  const EmbreeScene& scene = *frame.options.translucent.scene;
+  TranslucentLane lanes[EmbreeScene::kMaxPacket];
+  bool running[EmbreeScene::kMaxPacket];
+  DoubleRay segments[EmbreeScene::kMaxPacket];
+  int left = 0;
+  for (int lane = 0; lane < count; ++lane)
   {
-    DoubleRay segment = ray;
-    segment.tnear = segmentStart;
-    const double segmentEnd = std::min(rayEnd, segmentStart + segmentLength);
-    segment.tfar = segmentEnd;
-    scratch.intervals.clear();
-    scene.insideIntervals(segment, scratch.intervals);
-    // unionSurfaces takes the open range (tnear, tfar): a surface exactly at a segment's end
-    // belongs to that segment, so its range reaches just past the end (the last segment's end
-    // is the ray's own).
-    const bool last = segmentEnd >= rayEnd;
-    unionSurfaces(scratch.intervals, segmentStart,
-      last ? segmentEnd : std::nextafter(segmentEnd, 1e300), frame.unionGap, scratch.surfaces);
-    for (const UnionSurface& surface : scratch.surfaces)
+    nearest[lane] = kInfinity;
+    running[lane] = false;
+    if (!active[lane])
+      continue;
+    // Segments start where the ray enters the scene's box, not at the near plane.
+    const DoubleRay& ray = rays[lane];
+    TranslucentLane& l = lanes[lane];
+    l.segmentStart = ray.tnear;
+    l.rayEnd = ray.tfar;
+    if (!clipToBox(ray.origin, ray.direction, dvec3(frame.translucentBounds.lower),
+          dvec3(frame.translucentBounds.upper), l.segmentStart, l.rayEnd))
+      continue;
+    // Back off by the merge gap so a surface right at the box's face is not lost.
+    l.segmentStart = std::max(ray.tnear, l.segmentStart - frame.unionGap);
+    l.rayEnd = std::min(ray.tfar, l.rayEnd + frame.unionGap);
+    l.segmentLength = frame.translucentSegment;
+    running[lane] = l.segmentStart < l.rayEnd;
+    left += running[lane];
+  }
+  while (left > 0)
+  {
+    for (int lane = 0; lane < count; ++lane)
     {
-      const Geometry& geometry = scene.geometry(surface.geometry);
-      const ShadingFrame s =
-        orientNormal(frame, geometry.partNormal(surface.part, ray.at(surface.t)), vec3(ray.direction));
-      const Material& m = geometry.material;
-      vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
-      if (geometry.hasPrimitiveColors())
-        ambientColor = diffuseColor = geometry.partColor(surface.part);
-      const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
-      premultiplied += (1.0f - alpha) * m.opacity * rgb;
-      alpha += (1.0f - alpha) * m.opacity;
-      nearest = std::min(nearest, surface.t);
-      ++scratch.translucentSurfaces;
-      if (alpha >= frame.options.translucent.saturation)
+      if (!running[lane])
+        continue;
+      TranslucentLane& l = lanes[lane];
+      segments[lane] = rays[lane];
+      segments[lane].tnear = l.segmentStart;
+      l.segmentEnd = std::min(l.rayEnd, l.segmentStart + l.segmentLength);
+      segments[lane].tfar = l.segmentEnd;
+      scratch.intervals[lane].clear();
+    }
+    scene.insideIntervalsPacket(segments, running, count, scratch.intervals);
+    for (int lane = 0; lane < count; ++lane)
+    {
+      if (!running[lane])
+        continue;
+      TranslucentLane& l = lanes[lane];
+      // unionSurfaces takes the open range (tnear, tfar): a surface exactly at a segment's end
+      // belongs to that segment, so its range reaches just past the end (the last segment's
+      // end is the ray's own).
+      const bool last = l.segmentEnd >= l.rayEnd;
+      unionSurfaces(scratch.intervals[lane], l.segmentStart,
+        last ? l.segmentEnd : std::nextafter(l.segmentEnd, 1e300), frame.unionGap, scratch.surfaces);
+      bool saturated = false;
+      for (const UnionSurface& surface : scratch.surfaces)
       {
-        saturated = true;
-        break;
+        const Geometry& geometry = scene.geometry(surface.geometry);
+        const ShadingFrame s = orientNormal(frame,
+          geometry.partNormal(surface.part, rays[lane].at(surface.t)), vec3(rays[lane].direction));
+        const Material& m = geometry.material;
+        vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
+        if (geometry.hasPrimitiveColors())
+          ambientColor = diffuseColor = geometry.partColor(surface.part);
+        const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting, nullptr);
+        l.premultiplied += (1.0f - l.alpha) * m.opacity * rgb;
+        l.alpha += (1.0f - l.alpha) * m.opacity;
+        l.nearest = std::min(l.nearest, surface.t);
+        ++scratch.translucentSurfaces;
+        if (l.alpha >= frame.options.translucent.saturation)
+        {
+          saturated = true;
+          break;
+        }
+      }
+      l.segmentStart = l.segmentEnd;
+      l.segmentLength *= 4.0;
+      if (saturated || last || !(l.segmentStart < l.rayEnd))
+      {
+        running[lane] = false;
+        --left;
       }
     }
-    if (last)
-      break;
-    segmentStart = segmentEnd;
-    segmentLength *= 4.0;
   }
-  if (!(nearest < kInfinity))
-    return kInfinity;
-  const float total = alpha + (1.0f - alpha) * color.a;
-  if (total > 0.0f)
-    color = vec4((premultiplied + (1.0f - alpha) * color.a * vec3(color)) / total, total);
-  return nearest;
+  for (int lane = 0; lane < count; ++lane)
+  {
+    const TranslucentLane& l = lanes[lane];
+    if (!active[lane] || !(l.nearest < kInfinity))
+      continue;
+    nearest[lane] = l.nearest;
+    vec4& color = colors[lane];
+    const float total = l.alpha + (1.0f - l.alpha) * color.a;
+    if (total > 0.0f)
+      color = vec4((l.premultiplied + (1.0f - l.alpha) * color.a * vec3(color)) / total, total);
+  }
 }
 
 /// The primary ray of pixel (x, y), stopped at the depth limit and clipped to the region;
@@ -246,22 +291,22 @@ bool primaryRay(const FrameContext& frame, int x, int y, std::size_t i, DoubleRa
   return true;
 }
 
-/// Finishes pixel (x, y) from its primary ray and the opaque hit found along it (none when
-/// `hit` is false): shading, shadows, volumes and translucent layers. Returns `hit`.
-bool shadePixel(const FrameContext& frame, int x, int y, std::size_t i, const DoubleRay& ray,
-  bool hit, const SceneHit& sceneHit, Framebuffer& fb, PixelScratch& scratch)
+/// A pixel between its opaque shading and its translucent layers.
+struct PixelState
 {
-  const VolumeOptions& volumes = frame.options.volumes;
-  const bool withVolumes = volumes.scene && !volumes.scene->empty();
-  const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
-  if (!hit && !withVolumes && !withTranslucent)
-    return false;
+  vec4 color{ 0.0f };
+  double depthT = kInfinity; ///< where the depth is taken (infinity: nothing drawn yet)
+  DoubleRay segment;         ///< the ray up to the opaque hit
+  double worldScale = 1.0;
+};
 
-  const double worldScale = frame.identityTransform
+/// Shades pixel (x, y)'s opaque hit (if `hit`) and the volumes in front of it.
+void shadeSurfaceAndVolumes(const FrameContext& frame, int x, int y, const DoubleRay& ray,
+  bool hit, const SceneHit& sceneHit, PixelScratch& scratch, PixelState& pixel)
+{
+  pixel.worldScale = frame.identityTransform
     ? 1.0
     : glm::length(glm::dmat3(frame.objectToWorld) * ray.direction);
-  vec4 color(0.0f);
-  double depthT = kInfinity;
   if (hit)
   {
     const Geometry& geometry = frame.scene.geometry(sceneHit.geomID);
@@ -278,42 +323,44 @@ bool shadePixel(const FrameContext& frame, int x, int y, std::size_t i, const Do
       lightVisibility(frame, hitObject, t, s.objectNormal, s.normal, x, y, visibility, scratch.shadowRays);
     const vec3 rgb = shade(m, ambientColor, diffuseColor, s.normal, s.toViewer, frame.lighting,
       shadowed ? visibility : nullptr);
-    color = vec4(rgb, m.opacity);
-    depthT = t;
+    pixel.color = vec4(rgb, m.opacity);
+    pixel.depthT = t;
   }
-  DoubleRay segment = ray;
-  segment.tfar = hit ? sceneHit.t : ray.tfar;
-  if (withVolumes)
+  pixel.segment = ray;
+  pixel.segment.tfar = hit ? sceneHit.t : ray.tfar;
+  const VolumeOptions& volumes = frame.options.volumes;
+  if (volumes.scene && !volumes.scene->empty())
   {
     float entry = kInfinity;
-    const double inside = volumes.scene->insideLength(segment, entry);
+    const double inside = volumes.scene->insideLength(pixel.segment, entry);
     if (inside > 0.0)
     {
-      const float transmittance = float(std::exp(-double(volumes.extinction) * inside * worldScale));
+      const float transmittance = float(std::exp(-double(volumes.extinction) * inside * pixel.worldScale));
       if (hit)
-        color = vec4(transmittance * vec3(color) + (1.0f - transmittance) * volumes.emission, color.a);
+        pixel.color = vec4(transmittance * vec3(pixel.color) + (1.0f - transmittance) * volumes.emission, pixel.color.a);
       else
-        color = vec4(volumes.emission, 1.0f - transmittance);
-      depthT = std::min(depthT, double(entry)); // the volume's front, so it composites with GL geometry
+        pixel.color = vec4(volumes.emission, 1.0f - transmittance);
+      pixel.depthT = std::min(pixel.depthT, double(entry)); // the volume's front, so it composites with GL geometry
     }
   }
-  if (withTranslucent)
-    depthT = std::min(depthT, compositeTranslucent(frame, segment, color, scratch));
-  if (!(depthT < kInfinity))
-    return false;
+}
+
+/// Writes a pixel that shows something (colour, depth, distance and the primitive id).
+void writePixel(const FrameContext& frame, std::size_t i, const DoubleRay& ray, bool hit,
+  const SceneHit& sceneHit, const PixelState& pixel, Framebuffer& fb)
+{
   if (hit && frame.options.primitiveIds)
     fb.Primitives[i] = PixelPrimitive{ sceneHit.geomID, sceneHit.primID };
-
-  const dvec3 depthPoint = ray.at(depthT);
-  fb.Color[i] = color;
+  const dvec3 depthPoint = ray.at(pixel.depthT);
+  fb.Color[i] = pixel.color;
   fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(depthPoint), 0.0, 1.0));
   // t is in the scene's units; the framebuffer keeps world distances.
-  fb.Distance[i] = float(depthT * worldScale);
-  return hit;
+  fb.Distance[i] = float(pixel.depthT * pixel.worldScale);
 }
+
 /// Renders the block of the packet's shape whose lower-left pixel is (x0, y0), clipped to the
-/// tile `r`: the primary rays are traced together, then each pixel is finished on its own.
-/// Returns the number of opaque hits.
+/// tile `r`: the primary rays are traced together, each pixel is shaded on its own, and the
+/// translucent layers are traced together again. Returns the number of opaque hits.
 std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
   const tbb::blocked_range2d<int>& r, Framebuffer& fb, PixelScratch& scratch)
 {
@@ -336,11 +383,45 @@ std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
     }
   if (!frame.scene.empty())
     frame.scene.intersectPacket(rays, active, count, hits, found, true);
+
+  const bool withVolumes = frame.options.volumes.scene && !frame.options.volumes.scene->empty();
+  const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
+  PixelState pixel[kMax];
+  bool shaded[kMax];
+  for (int lane = 0; lane < count; ++lane)
+  {
+    shaded[lane] = active[lane] && (found[lane] || withVolumes || withTranslucent);
+    if (shaded[lane])
+      shadeSurfaceAndVolumes(frame, x0 + lane % shape.columns, y0 + lane / shape.columns,
+        rays[lane], found[lane], hits[lane], scratch, pixel[lane]);
+  }
+  if (withTranslucent)
+  {
+    DoubleRay segments[kMax];
+    vec4 colors[kMax];
+    double nearest[kMax];
+    for (int lane = 0; lane < count; ++lane)
+      if (shaded[lane])
+      {
+        segments[lane] = pixel[lane].segment;
+        colors[lane] = pixel[lane].color;
+      }
+    compositeTranslucent(frame, segments, shaded, count, colors, nearest, scratch);
+    for (int lane = 0; lane < count; ++lane)
+      if (shaded[lane])
+      {
+        pixel[lane].color = colors[lane];
+        pixel[lane].depthT = std::min(pixel[lane].depthT, nearest[lane]);
+      }
+  }
   std::size_t opaque = 0;
   for (int lane = 0; lane < count; ++lane)
-    if (active[lane])
-      opaque += shadePixel(frame, x0 + lane % shape.columns, y0 + lane / shape.columns,
-        pixels[lane], rays[lane], found[lane], hits[lane], fb, scratch);
+  {
+    if (!shaded[lane] || !(pixel[lane].depthT < kInfinity))
+      continue;
+    writePixel(frame, pixels[lane], rays[lane], found[lane], hits[lane], pixel[lane], fb);
+    opaque += found[lane];
+  }
   return opaque;
 }
 } // namespace

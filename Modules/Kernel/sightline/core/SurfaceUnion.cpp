@@ -9,8 +9,20 @@ void unionSurfaces(std::vector<InsideInterval>& intervals, double tnear, double 
   std::vector<UnionSurface>& out)
 {
   out.clear();
-  std::sort(intervals.begin(), intervals.end(),
-    [](const InsideInterval& a, const InsideInterval& b) { return a.t0 < b.t0; });
+  // A total order: the surfaces, and which part each comes from where intervals tie, do not
+  // depend on the order Embree visited the primitives (ray by ray or in packets).
+  std::sort(intervals.begin(), intervals.end(), [](const InsideInterval& a, const InsideInterval& b)
+    {
+      if (a.t0 != b.t0)
+        return a.t0 < b.t0;
+      if (a.t1 != b.t1)
+        return a.t1 < b.t1;
+      if (a.geometry != b.geometry)
+        return a.geometry < b.geometry;
+      if (a.part != b.part)
+        return a.part < b.part;
+      return a.primitive < b.primitive;
+    });
   std::size_t i = 0;
   while (i < intervals.size() && intervals[i].t0 < tfar)
   {

@@ -17,6 +17,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -29,6 +30,8 @@ using namespace sightline;
 namespace
 {
 constexpr int kPacketSizes[] = { 1, 4, 8, 16 };
+
+void expectSameFramebuffer(const Framebuffer& a, const Framebuffer& b, const std::string& what);
 
 /// Random spheres, a branching tube, ellipsoids and k = 8 SH glyphs, overlapping in a box of
 /// about 8 units around `origin` (double), every position a float offset from it.
@@ -181,6 +184,50 @@ TEST(RayPackets, EachRayGetsItsSingleRayHit)
     EXPECT_GT(hits, compared / 3);
     for (unsigned kind = 0; kind < 5; ++kind)
       EXPECT_GT(byKind[kind], std::size_t(100)) << "geometry " << kind << " at " << away;
+  }
+}
+
+// Dense data seen from far: nearly every pixel of a block hits another sphere, so the renderer
+// traces those blocks in narrow packets (rows of 4); the image must not change.
+TEST(RayPackets, DenseFarViewRendersTheSameImage)
+{
+  std::mt19937 random(99);
+  std::uniform_real_distribution<float> position(-4.0f, 4.0f);
+  std::vector<vec3> centres;
+  for (int i = 0; i < 200000; ++i)
+    centres.emplace_back(position(random), position(random), position(random));
+  EmbreeScene scene;
+  scene.add(std::make_shared<SphereSet>(centres, std::vector<float>{}, 0.02f));
+  scene.commit();
+  const Camera camera = Camera::fromParameters(cameraAt(dvec3(0.0)), 83, 61);
+  const Lighting lighting = Lighting::headlight(vec3(0.0f, 0.0f, -1.0f));
+  Framebuffer reference;
+  RenderOptions options;
+  options.packetSize = 1;
+  options.primitiveIds = true;
+  const std::size_t hits = Renderer().render(scene, camera, lighting, reference, options).hits;
+  EXPECT_GT(hits, std::size_t(83 * 61 / 2));
+  // How many 4x4 blocks hit more than 12 different spheres (narrow packets follow them).
+  std::size_t divergentBlocks = 0;
+  for (int y = 0; y + 4 <= 61; y += 4)
+    for (int x = 0; x + 4 <= 83; x += 4)
+    {
+      std::vector<std::uint32_t> seen;
+      for (int j = 0; j < 16; ++j)
+      {
+        const PixelPrimitive& p = reference.Primitives[reference.index(x + j % 4, y + j / 4)];
+        if (p.hit() && std::find(seen.begin(), seen.end(), p.primitive) == seen.end())
+          seen.push_back(p.primitive);
+      }
+      divergentBlocks += seen.size() > 12;
+    }
+  EXPECT_GT(divergentBlocks, std::size_t(50)) << "the scene must exercise narrow packets";
+  for (const int packet : { 4, 8, 16 })
+  {
+    options.packetSize = packet;
+    Framebuffer fb;
+    EXPECT_EQ(Renderer().render(scene, camera, lighting, fb, options).hits, hits);
+    expectSameFramebuffer(reference, fb, "dense far view, packets of " + std::to_string(packet));
   }
 }
 

@@ -362,7 +362,7 @@ void writePixel(const FrameContext& frame, std::size_t i, const DoubleRay& ray, 
 /// tile `r`: the primary rays are traced together, each pixel is shaded on its own, and the
 /// translucent layers are traced together again. Returns the number of opaque hits.
 std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
-  const tbb::blocked_range2d<int>& r, Framebuffer& fb, PixelScratch& scratch)
+  const tbb::blocked_range2d<int>& r, Framebuffer& fb, PixelScratch& scratch, bool& divergent)
 {
   constexpr int kMax = EmbreeScene::kMaxPacket;
   const PacketBlock shape = packetBlock(frame.packetSize);
@@ -382,7 +382,33 @@ std::size_t renderPacket(const FrameContext& frame, int x0, int y0,
       active[count] = primaryRay(frame, x, y, pixels[count], rays[count]);
     }
   if (!frame.scene.empty())
-    frame.scene.intersectPacket(rays, active, count, hits, found, true);
+  {
+    // Where the previous block's rays hit more than three quarters different primitives (dense
+    // data seen from far: 10M tube links in 1280x720), they also part ways in the BVH, and a
+    // wide packet cost 12 % more than it shared; trace such blocks as rows of 4. Blocks of
+    // small spheres a few pixels wide stay below the threshold and gain from wide packets.
+    // The image is the same either way.
+    constexpr int kNarrow = 4;
+    if (divergent && count > kNarrow)
+      for (int row = 0; row < count; row += kNarrow)
+        frame.scene.intersectPacket(rays + row, active + row, std::min(kNarrow, count - row),
+          hits + row, found + row, true);
+    else
+      frame.scene.intersectPacket(rays, active, count, hits, found, true);
+    int hitCount = 0, distinct = 0;
+    for (int lane = 0; lane < count; ++lane)
+    {
+      if (!found[lane])
+        continue;
+      ++hitCount;
+      bool seen = false;
+      for (int other = 0; other < lane && !seen; ++other)
+        seen = found[other] && hits[other].primID == hits[lane].primID &&
+          hits[other].geomID == hits[lane].geomID;
+      distinct += !seen;
+    }
+    divergent = 4 * distinct > 3 * hitCount + 2;
+  }
 
   const bool withVolumes = frame.options.volumes.scene && !frame.options.volumes.scene->empty();
   const bool withTranslucent = frame.options.translucent.scene && !frame.options.translucent.scene->empty();
@@ -498,9 +524,10 @@ RenderStatistics Renderer::render(const EmbreeScene& scene, const Camera& camera
       {
         PixelScratch& scratch = scratches.local();
         std::size_t local = 0;
+        bool divergent = false; // see renderPacket
         for (int y = r.rows().begin(); y < r.rows().end(); y += packetRows)
           for (int x = r.cols().begin(); x < r.cols().end(); x += packetColumns)
-            local += renderPacket(frame, x, y, r, framebuffer, scratch);
+            local += renderPacket(frame, x, y, r, framebuffer, scratch, divergent);
         hits.local() += local;
       });
     if (options.progress && !options.progress(double(band + 1) / bands))

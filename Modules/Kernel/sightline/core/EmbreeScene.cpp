@@ -253,26 +253,39 @@ void fillPacket(RTCRayHitNt<K>& rh, int* valid, DoubleRayTrace* traces, const Do
   }
 }
 
+/// One K-wide packet of rays[0, count) with its double rays in a trace context.
+template <int K>
+struct PacketTrace
+{
+  alignas(64) RTCRayHitNt<K> rh;
+  alignas(64) int valid[K];
+  DoubleRayTrace traces[K];
+  TraceContext context;
+
+  PacketTrace(const DoubleRay* rays, const bool* active, int count)
+  {
+    fillPacket<K>(rh, valid, traces, rays, active, count);
+    rtcInitIntersectContext(&context.embree);
+    context.doubleRays = traces;
+  }
+  void trace(RTCScene scene) { intersectNative(valid, scene, &context.embree, rh); }
+};
+
 /// Traces rays[0, count) (count <= K) as one Embree packet of K lanes for their nearest hits.
 template <int K>
 void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active, int count,
   SceneHit* hits, bool* found, bool coherent)
 {
-  alignas(64) RTCRayHitNt<K> rh;
-  alignas(64) int valid[K];
-  DoubleRayTrace traces[K];
-  fillPacket<K>(rh, valid, traces, rays, active, count);
-  TraceContext context;
-  rtcInitIntersectContext(&context.embree);
+  PacketTrace<K> packet(rays, active, count);
   if (coherent)
-    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  context.doubleRays = traces;
-  intersectNative(valid, scene, &context.embree, rh);
+    packet.context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  packet.trace(scene);
+  const RTCRayHitNt<K>& rh = packet.rh;
   for (int i = 0; i < count; ++i)
   {
-    found[i] = valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+    found[i] = packet.valid[i] && rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
     if (found[i])
-      readHit(traces[i], rh.hit.geomID[i], rh.hit.primID[i], rh.ray.tfar[i],
+      readHit(packet.traces[i], rh.hit.geomID[i], rh.hit.primID[i], rh.ray.tfar[i],
         vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]), hits[i]);
   }
 }
@@ -282,15 +295,9 @@ template <int K>
 void insideIntervalsPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active, int count,
   std::vector<InsideInterval>* out)
 {
-  alignas(64) RTCRayHitNt<K> rh;
-  alignas(64) int valid[K];
-  DoubleRayTrace traces[K];
-  fillPacket<K>(rh, valid, traces, rays, active, count);
-  TraceContext context;
-  rtcInitIntersectContext(&context.embree);
-  context.doubleRays = traces;
-  context.intervals = out;
-  intersectNative(valid, scene, &context.embree, rh);
+  PacketTrace<K> packet(rays, active, count);
+  packet.context.intervals = out;
+  packet.trace(scene);
 }
 
 /// Checks a packet's ray count.

@@ -36,6 +36,14 @@ struct RayTables
   /// max over the unit circle of |u^i v^(k+1-i)|: bounds g(u, v) v, whose maximum is the
   /// largest distance of the glyph's cross-section from the ray's line through the centre.
   T sineBound[kMaxGlyphOrder + 1];
+  /// The cross-section's height test: q(theta) = g(cos, sin) sin, a trigonometric polynomial of
+  /// degree k + 1, sampled at kHeightSamples(k) angles theta_j = (j + 1/2) pi / M of [0, pi)
+  /// (|q| has period pi): heightBasis[i][j] = cos^i sin^(k+1-i) at theta_j, zero past M.
+  static constexpr int kMaxHeightSamples = 4 * (kMaxGlyphOrder + 1);
+  int heightSamples = 0;
+  T heightBasis[kMaxGlyphOrder + 2][kMaxHeightSamples];
+  /// max |q| <= heightFactor * max_j |q(theta_j)| (see intersectOrder).
+  T heightFactor = T(1);
 
   explicit RayTables(int k) : order(k)
   {
@@ -88,6 +96,19 @@ struct RayTables
       const long double b = std::pow((long double)(n - i), n - i);
       sineBound[i] = T(std::sqrt(a * b / std::pow((long double)n, n)) * (1.0L + 1e-6L));
     }
+    // Bernstein's inequality for a trigonometric polynomial of degree m = k + 1 gives
+    // |q''| <= m^2 max|q|; at the maximum q' = 0 and the nearest sample is within pi / (2 M):
+    // |q(theta_j)| >= max|q| (1 - m^2 pi^2 / (8 M^2)). M = 4 m: a factor of 1.084.
+    heightSamples = 4 * (k + 1);
+    for (int i = 0; i <= k + 1; ++i)
+      for (int j = 0; j < kMaxHeightSamples; ++j)
+      {
+        const long double angle = (j + 0.5L) * kPiLong / heightSamples;
+        heightBasis[i][j] = j < heightSamples
+          ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
+      }
+    const long double m = k + 1;
+    heightFactor = T(1.0L / (1.0L - m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples)));
     long double c = 1.0L;
     for (int j = 0; j <= k + 1; ++j)
     {
@@ -275,6 +296,33 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   // parallel to the ray; sineBound carries a relative margin of 1e-6 against rounding).
   if (!(gmax > eo) || !(sineMax > eo))
     return 0;
+  // The tighter test: the ray (height eo above the line through the centre, in the plane)
+  // meets the glyph's cross-section r = |g(cos, sin)| only if the section's largest height
+  // max |q|, q = g(cos, sin) sin, reaches eo. Sampled q with Bernstein's bound, plus the
+  // samples' rounding error (|basis| <= 1): most rays that pass through a glyph's box but
+  // not through its lobes stop here, before the polynomial and its root isolation.
+  if (eo > T(0))
+  {
+    constexpr int M = 4 * (K + 1);
+    T q[M];
+    for (int j = 0; j < M; ++j)
+      q[j] = T(0);
+    T magnitude = T(0);
+    for (int i = 0; i <= K; ++i)
+    {
+      // g(u, v) sin = sum_i g_i u^i v^(k-i) v = sum_i g_i u^i v^(k+1-i).
+      const T gi = g[i];
+      magnitude += std::abs(gi);
+      for (int j = 0; j < M; ++j)
+        q[j] += gi * tab.heightBasis[i][j];
+    }
+    T height = T(0);
+    for (int j = 0; j < M; ++j)
+      height = std::max(height, std::abs(q[j]));
+    const T rounding = T(4 * (K + 2)) * std::numeric_limits<T>::epsilon() * magnitude;
+    if ((height + rounding) * tab.heightFactor < eo)
+      return 0;
+  }
 
   // In units of gmax: w = (t + d.o) / gmax along the ray, eps = (e.o) / gmax <= 1, and
   //   P(w) = h(w)^2 - (w^2 + eps^2)^(k+1),  h(w) = sum_i g_i / gmax * eps^(k-i) w^i.

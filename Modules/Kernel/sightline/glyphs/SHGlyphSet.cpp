@@ -296,6 +296,15 @@ int SHGlyphSet::exactIntersections(const Glyph& glyph, const DoubleRay& ray, dou
   const double length = glm::length(d);
   const dvec3 du = d / length;
   double tmin = double(ray.tnear) * length, tmax = double(ray.tfar) * length;
+  // A line farther from the centre than the glyph's bounding sphere (the coefficient bound,
+  // known for every glyph; its float rounding absorbed by the factor) misses it: cheaper than
+  // the SH sums, and it culls the rays through a box's corners.
+  {
+    const dvec3 closest = o - glm::dot(o, du) * du;
+    const double radius = double(glyph.boundingRadius) * (1.0 + 1e-6);
+    if (glm::dot(closest, closest) > radius * radius)
+      return 0;
+  }
   // Clip the ray to the glyph's box (the BVH leaf may hold several glyphs, and a shorter
   // interval means less root isolation); the box encloses the glyph with padding already,
   // the margin only absorbs rounding in this test.

@@ -168,7 +168,7 @@ private:
     std::uint32_t offset = 0; ///< into the coefficient arrays
     std::uint8_t order = 0;
     bool useFloat = false;
-    float boundingRadius = 0.0f; ///< for the marching baselines
+    float boundingRadius = 0.0f; ///< coefficient bound: the marching baselines, ray culling
     float scale = 1.0f;          ///< world units per input unit (radius colouring)
     float maxRadius = 0.0f;      ///< longest lobe, padded: the tensor methods' bounding sphere
   };

@@ -44,6 +44,10 @@ struct RayTables
   T heightBasis[kMaxGlyphOrder + 2][kMaxHeightSamples];
   /// max |q| <= heightFactor * max_j |q(theta_j)| (see intersectOrder).
   T heightFactor = T(1);
+  /// Between neighbouring samples |q| exceeds the larger of their values by at most
+  /// heightCurvature * max |q| (|q''| <= m^2 max |q|, half spacing pi / (2 M)).
+  T heightCurvature = T(0);
+  T heightCotangent[kMaxHeightSamples]; ///< cot theta_j
 
   explicit RayTables(int k) : order(k)
   {
@@ -108,7 +112,13 @@ struct RayTables
           ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
       }
     const long double m = k + 1;
+    heightCurvature = T(m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples));
     heightFactor = T(1.0L / (1.0L - m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples)));
+    for (int j = 0; j < kMaxHeightSamples; ++j)
+    {
+      const long double angle = (j + 0.5L) * kPiLong / heightSamples;
+      heightCotangent[j] = j < heightSamples ? T(std::cos(angle) / std::sin(angle)) : T(0);
+    }
     long double c = 1.0L;
     for (int j = 0; j <= k + 1; ++j)
     {
@@ -301,10 +311,11 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   // max |q|, q = g(cos, sin) sin, reaches eo. Sampled q with Bernstein's bound, plus the
   // samples' rounding error (|basis| <= 1): most rays that pass through a glyph's box but
   // not through its lobes stop here, before the polynomial and its root isolation.
+  constexpr int M = 4 * (K + 1);
+  T q[M];
+  T heightBound = T(0), heightRounding = T(0);
   if (eo > T(0))
   {
-    constexpr int M = 4 * (K + 1);
-    T q[M];
     for (int j = 0; j < M; ++j)
       q[j] = T(0);
     T magnitude = T(0);
@@ -319,8 +330,9 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
     T height = T(0);
     for (int j = 0; j < M; ++j)
       height = std::max(height, std::abs(q[j]));
-    const T rounding = T(4 * (K + 2)) * std::numeric_limits<T>::epsilon() * magnitude;
-    if ((height + rounding) * tab.heightFactor < eo)
+    heightRounding = T(4 * (K + 2)) * std::numeric_limits<T>::epsilon() * magnitude;
+    heightBound = (height + heightRounding) * tab.heightFactor;
+    if (heightBound < eo)
       return 0;
   }
 
@@ -356,8 +368,35 @@ int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tol
   // Roots lie within the bounding circle |w| <= sqrt(1 - eps^2); the bound is attained for a
   // sphere, so widen it by a few ulps to keep those roots inside the interval.
   const T wmax = std::sqrt(std::max(T(0), T(1) - eps2)) * (T(1) + T(16) * std::numeric_limits<T>::epsilon());
-  const T lo = std::max(-wmax, (tmin + dO) * scale);
-  const T hi = std::min(wmax, (tmax + dO) * scale);
+  T lo = std::max(-wmax, (tmin + dO) * scale);
+  T hi = std::min(wmax, (tmax + dO) * scale);
+  // The ray is inside the glyph exactly where |q(theta)| > eo, theta the angle of its point
+  // (w = eps cot theta). Between samples whose bound stays below eo there is no crossing, so
+  // the roots lie within the angles from the first to the last interval that may reach eo:
+  // narrow [lo, hi] to those (widened by many root tolerances against rounding). Nothing is
+  // narrowed when the interval across theta = 0 / pi (the ray's far ends) may reach eo.
+  if (eo > T(0))
+  {
+    const T margin = tab.heightCurvature * heightBound + heightRounding;
+    auto mayReach = [&](int j0, int j1) { return std::max(std::abs(q[j0]), std::abs(q[j1])) + margin >= eo; };
+    if (!mayReach(M - 1, 0))
+    {
+      int first = -1, last = -1;
+      for (int j = 0; j + 1 < M; ++j)
+        if (mayReach(j, j + 1))
+        {
+          if (first < 0)
+            first = j;
+          last = j;
+        }
+      if (first < 0)
+        return 0;
+      // theta_first <= theta <= theta_(last+1): w from eps cot theta_(last+1) to eps cot theta_first.
+      const T widen = T(16) * tolerance * std::max(wmax, eps);
+      lo = std::max(lo, eps * tab.heightCotangent[last + 1] - widen);
+      hi = std::min(hi, eps * tab.heightCotangent[first] + widen);
+    }
+  }
   if (!(lo <= hi))
     return 0;
   // Root isolation by Bernstein subdivision in double; float keeps the derivative cascade (its

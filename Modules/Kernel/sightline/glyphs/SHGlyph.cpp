@@ -248,7 +248,7 @@ inline void evaluateSHSumBatch(const T* coefficients, const T* x, const T* y, co
 }
 
 template <int K, class T>
-int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tolerance, T* t,
+__attribute__((always_inline)) inline int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tolerance, T* t,
   bool firstOnly)
 {
   const RayTables<T>& tab = rayTables<T>(K);
@@ -647,9 +647,14 @@ double refineExtent(int order, const double* b, dvec3 w0, int axis, double best)
 }
 } // namespace
 
+namespace
+{
+/// Every order's intersection in one function, cloned for AVX2 (chosen when the library loads;
+/// intersectOrder is inlined into each clone, so the SH sums, the height test and the
+/// polynomial use the wider registers; without FMA contraction the same bits).
 template <class T>
-int intersectSHGlyph(int order, const T* coefficients, const T origin[3], const T direction[3],
-  T tmin, T tmax, T tolerance, T* t, bool firstOnly)
+__attribute__((always_inline)) inline int intersectAnyOrder(int order, const T* coefficients,
+  const T origin[3], const T direction[3], T tmin, T tmax, T tolerance, T* t, bool firstOnly)
 {
   switch (order)
   {
@@ -670,6 +675,31 @@ int intersectSHGlyph(int order, const T* coefficients, const T origin[3], const 
       checkGlyphOrder(order);
       return 0;
   }
+}
+
+SIGHTLINE_AVX2_CLONES int intersectAnyOrderDouble(int order, const double* coefficients,
+  const double* origin, const double* direction, double tmin, double tmax, double tolerance,
+  double* t, bool firstOnly)
+{
+  return intersectAnyOrder<double>(order, coefficients, origin, direction, tmin, tmax, tolerance, t, firstOnly);
+}
+
+SIGHTLINE_AVX2_CLONES int intersectAnyOrderFloat(int order, const float* coefficients,
+  const float* origin, const float* direction, float tmin, float tmax, float tolerance, float* t,
+  bool firstOnly)
+{
+  return intersectAnyOrder<float>(order, coefficients, origin, direction, tmin, tmax, tolerance, t, firstOnly);
+}
+} // namespace
+
+template <class T>
+int intersectSHGlyph(int order, const T* coefficients, const T origin[3], const T direction[3],
+  T tmin, T tmax, T tolerance, T* t, bool firstOnly)
+{
+  if constexpr (sizeof(T) == sizeof(double))
+    return intersectAnyOrderDouble(order, coefficients, origin, direction, tmin, tmax, tolerance, t, firstOnly);
+  else
+    return intersectAnyOrderFloat(order, coefficients, origin, direction, tmin, tmax, tolerance, t, firstOnly);
 }
 
 template int intersectSHGlyph<float>(

@@ -41,6 +41,9 @@ struct Options
   /// Where scenes that read real data find or generate it; empty: a folder in the output
   /// directory (sh-glyph-window: the tiled NIfTI of scripts/make_sh_data.py and DIPY's spheres).
   std::string dataDirectory;
+  /// tensor-glyphs: run only the methods whose name contains one of these (the reference and
+  /// the exact method always run); empty: all.
+  std::vector<std::string> methodFilter;
   bool plot = true;
   std::string python;
   std::string plotScript;

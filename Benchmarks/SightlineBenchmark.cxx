@@ -42,6 +42,8 @@ void printUsage(std::ostream& out)
        "  --seed S                random seed of the scene (default 20240601)\n"
        "  --data-dir DIR          where scenes that read real data find it or generate it\n"
        "                          (default: a folder in --output)\n"
+       "  --methods S[,S...]      tensor-glyphs: only the methods whose name contains one of\n"
+       "                          these (the reference and the exact method always run)\n"
        "  --no-plot               do not run plot_benchmarks.py at the end\n"
        "  --python PATH           Python with matplotlib (default " SIGHTLINE_BENCHMARK_PYTHON ")\n"
        "  --plot-script PATH      plot_benchmarks.py to run (default: installed next to this "
@@ -358,6 +360,13 @@ Options parseArguments(int argc, char* argv[], bool& list, bool& help)
       options.seed = static_cast<unsigned>(std::stoul(value()));
     else if (arg == "--data-dir")
       options.dataDirectory = value();
+    else if (arg == "--methods")
+    {
+      std::stringstream list(value());
+      for (std::string name; std::getline(list, name, ',');)
+        if (!name.empty())
+          options.methodFilter.push_back(name);
+    }
     else if (arg == "--no-plot")
       options.plot = false;
     else if (arg == "--python")

@@ -169,7 +169,7 @@ struct Method
   std::string what;
 };
 
-std::vector<Method> methods()
+std::vector<Method> methods(const std::vector<std::string>& filter)
 {
   std::vector<Method> list;
   SHGlyphOptions reference;
@@ -212,6 +212,13 @@ std::vector<Method> methods()
     "reduced affine arithmetic to 1e-3 radii" });
   list.push_back({ "raa-1e-4", subdivision(sightline::EnclosureArithmetic::ReducedAffine, 1e-4),
     "reduced affine arithmetic to 1e-4 radii" });
+  if (!filter.empty()) // the first two (reference and exact) always run
+    list.erase(std::remove_if(list.begin() + 2, list.end(), [&](const Method& m)
+      {
+        return std::none_of(filter.begin(), filter.end(),
+          [&](const std::string& part) { return m.name.find(part) != std::string::npos; });
+      }),
+      list.end());
   return list;
 }
 
@@ -226,11 +233,11 @@ struct MicroRow
   double missNs = kNotMeasured;
 };
 
-std::vector<MicroRow> measureMicro(const Dataset& data, unsigned seed)
+std::vector<MicroRow> measureMicro(const Dataset& data, const Options& options)
 {
   std::vector<MicroRow> rows;
   const auto exact = makeGlyphs(data, SHGlyphOptions{});
-  std::mt19937 rng(seed);
+  std::mt19937 rng(options.seed + 5);
   std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
   std::vector<std::pair<unsigned, sightline::Ray>> hits, misses;
   for (int i = 0; i < 20000 && (hits.size() < 2000 || misses.size() < 2000); ++i)
@@ -247,7 +254,7 @@ std::vector<MicroRow> measureMicro(const Dataset& data, unsigned seed)
   }
   // The exact method, the paper's recommended and finest marching and both subdivisions.
   const std::vector<std::string> measured = { "sightline", "march-0.2-lin", "march-0.01-lin", "ia-1e-3", "raa-1e-3" };
-  for (const Method& method : methods())
+  for (const Method& method : methods(options.methodFilter))
   {
     if (std::find(measured.begin(), measured.end(), method.name) == measured.end())
       continue;
@@ -275,7 +282,7 @@ std::vector<MethodResult> runDataset(const Options& options, const Dataset& data
   const std::string prefix = data.name + ":";
   const View view = makeGlyphView(data.centers, kGlyphRadius, options.width, options.height);
   std::vector<std::unique_ptr<PreparedMethod>> prepared;
-  for (const Method& method : methods())
+  for (const Method& method : methods(options.methodFilter))
   {
     logProgress("tensor-glyphs: " + prefix + method.name);
     std::shared_ptr<SHGlyphSet> glyphs;
@@ -360,7 +367,7 @@ std::vector<MethodResult> runTensorGlyphScene(const Options& options, long long 
   for (const Dataset& data : datasets)
   {
     logProgress("tensor-glyphs: single-threaded ray-glyph costs, " + data.name);
-    for (const MicroRow& row : measureMicro(data, options.seed + 5))
+    for (const MicroRow& row : measureMicro(data, options))
       micro.push_back(row);
     for (MethodResult& r : runDataset(options, data, count))
       results.push_back(std::move(r));

@@ -7,12 +7,16 @@ extent), 1920x1080.
 
 Reports: the glyphs drawn; the box computation (the mapper's geometry, which VTK's first
 ResetCameraClippingRange asks for through GetBounds); the first Render; the first image (both);
-a still frame after a small turn; a close-up frame (dolly 3x: most glyphs behind the camera or
-outside the view); peak RSS before the mapper and at the end. Timings are the machine's, not
-pass/fail.
+a still frame after a small turn; then a frame of the other view: the close-up (dolly 3x: most
+glyphs behind the camera or outside the view) after the whole field, or the whole field after
+the close-up (--first-view close); peak RSS before the mapper and at the end. With --culling the
+mapper's FrustumCulling is on: boxes only for the glyphs in view (the rest get loose boxes until
+a still frame shows them); the boxes computed and left loose are reported per frame. Timings
+are the machine's, not pass/fail.
 
 Usage: xvfb-run -a -s "-noreset -screen 0 1920x1080x24" /usr/bin/python3 sh_glyph_volume.py
-         [--data-dir DIR] [--tile 10 10 6] [--size 1920 1080] [--png FILE]
+         [--data-dir DIR] [--tile 10 10 6] [--size 1920 1080] [--culling]
+         [--first-view whole|close] [--png FILE]
 with PYTHONPATH at the build tree's lib/python3/dist-packages. DIR holds
 small_64D_sh_descoteaux07.nii.gz (scripts/make_sh_data.py DIR writes it; it is run when missing).
 """
@@ -43,7 +47,14 @@ def main():
     parser.add_argument("--data-dir", default="/tmp/sh-data")
     parser.add_argument("--tile", type=int, nargs=3, default=[10, 10, 6])
     parser.add_argument("--size", type=int, nargs=2, default=[1920, 1080])
-    parser.add_argument("--png", help="write the close-up frame here")
+    parser.add_argument("--png", help="write the last frame here")
+    parser.add_argument("--culling", action="store_true", help="FrustumCulling on")
+    parser.add_argument("--first-view", choices=["whole", "close"], default="whole",
+                        help="the view of the first image (the other one comes last)")
+    parser.add_argument("--check", action="store_true",
+                        help="fail unless every glyph is drawn and, with --culling and a "
+                        "close first view, the close-up left boxes loose and the whole field "
+                        "computed boxes and left fewer loose (the smoke test)")
     args = parser.parse_args()
 
     path = os.path.join(args.data_dir, "small_64D_sh_descoteaux07.nii.gz")
@@ -68,6 +79,7 @@ def main():
     mapper.SetBasisToDIPY()
     mapper.SetSliceOrientationToExtent()
     mapper.SetDisplayExtent(0, nx - 1, 0, ny - 1, 0, nz - 1)
+    mapper.SetFrustumCulling(args.culling)
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     renderer = vtk.vtkRenderer()
@@ -79,27 +91,52 @@ def main():
     camera = renderer.GetActiveCamera()
     centre = np.array([nx - 1, ny - 1, nz - 1], dtype=float)  # 2 mm voxels: the extent's centre
     camera.SetFocalPoint(*centre)
-    camera.SetPosition(*(centre + [260.0, -330.0, 300.0]))
+    # The view of the default 100-voxel-wide field, scaled with the field.
+    camera.SetPosition(*(centre + np.array([260.0, -330.0, 300.0]) * max(nx, ny, nz) / 100.0))
+    if args.first_view == "close":
+        camera.Dolly(3.0)
+
+    def boxes():
+        return (f"{mapper.GetLastComputedBoxes()} boxes computed, "
+                f"{mapper.GetLastLooseBoxes()} loose")
 
     started = time.perf_counter()
     renderer.ResetCameraClippingRange()  # asks for the bounds: the boxes
     bounded = time.perf_counter()
+    bounds_geometry = (mapper.GetLastGeometrySeconds(), mapper.GetLastBuildSeconds())
     window.Render()
     first = time.perf_counter()
+    first_boxes = boxes()
+    first_loose = mapper.GetLastLooseBoxes()
     camera.Azimuth(3.0)
     window.Render()
     still = time.perf_counter()
-    camera.Dolly(3.0)
+    camera.Dolly(3.0 if args.first_view == "whole" else 1.0 / 3.0)
     renderer.ResetCameraClippingRange()
     window.Render()
-    close = time.perf_counter()
-    print(f"{glyphs} glyphs ({nx} x {ny} x {nz} voxels), {args.size[0]}x{args.size[1]}")
+    other = time.perf_counter()
+    other_name = "close-up" if args.first_view == "whole" else "whole-field"
+    print(f"{glyphs} glyphs ({nx} x {ny} x {nz} voxels), {args.size[0]}x{args.size[1]}, "
+          f"first view {args.first_view}, frustum culling {'on' if args.culling else 'off'}")
     print(f"boxes (GetBounds) {bounded - started:.2f} s (mapper geometry "
-          f"{mapper.GetLastGeometrySeconds():.2f} s, BVH {mapper.GetLastBuildSeconds():.2f} s); "
-          f"first Render {first - bounded:.2f} s; first image {first - started:.2f} s")
-    print(f"still frame {still - first:.2f} s; close-up frame {close - still:.2f} s")
+          f"{bounds_geometry[0]:.2f} s, BVH {bounds_geometry[1]:.2f} s); "
+          f"first Render {first - bounded:.2f} s ({first_boxes}); first image {first - started:.2f} s")
+    print(f"still frame {still - first:.2f} s; {other_name} frame {other - still:.2f} s ({boxes()})")
     print(f"peak RSS {peak_rss_mib():.0f} MiB ({before:.0f} MiB with the input alone, "
           f"+{peak_rss_mib() - before:.0f} MiB)")
+    if args.check:
+        problems = []
+        if mapper.GetNumberOfPrimitives() != glyphs:
+            problems.append(f"{mapper.GetNumberOfPrimitives()} glyphs drawn, not {glyphs}")
+        if args.culling and args.first_view == "close":
+            if not 0 < first_loose < glyphs:
+                problems.append(f"the close-up left {first_loose} of {glyphs} boxes loose")
+            if not (mapper.GetLastComputedBoxes() > 0 and mapper.GetLastLooseBoxes() < first_loose):
+                problems.append(f"the whole field computed {mapper.GetLastComputedBoxes()} boxes "
+                                f"and left {mapper.GetLastLooseBoxes()} loose")
+        if problems:
+            print("check failed: " + "; ".join(problems))
+            return 1
     if args.png:
         grab = vtk.vtkWindowToImageFilter()
         grab.SetInput(window)

@@ -44,6 +44,12 @@ public:
   /// The pass `prop` (whose mapper this is) is drawn in.
   virtual Pass GetPass(vtkProp3D* prop) = 0;
 
+  /// The view about to be traced (before UpdateScene): `camera` at image aspect `aspect` on
+  /// `prop`; `interactive` while the user drags (a frame that may stay approximate). Tracers
+  /// that build less for what the view cannot see (frustum culling) use it; the default
+  /// ignores it.
+  virtual void SetView(vtkProp3D* /*prop*/, vtkCamera* /*camera*/, double /*aspect*/, bool /*interactive*/) {}
+
   /// Brings what is traced up to date with the input; false (after reporting why) when there
   /// is nothing to draw.
   virtual bool UpdateScene() = 0;

@@ -147,7 +147,12 @@ void SightlineWindowFrame::Render(
     return;
   }
 
+  // Trace fewer rays while the user drags; the still frame afterwards has every pixel.
+  const int step = window->GetDesiredUpdateRate() > this->InteractiveUpdateRate
+    ? this->InteractiveSubsampling
+    : 1;
   mapper->InvokeEvent(vtkCommand::StartEvent, nullptr);
+  tracer.SetView(prop, renderer->GetActiveCamera(), static_cast<double>(width) / height, step > 1);
   if (!tracer.UpdateScene())
   {
     mapper->InvokeEvent(vtkCommand::EndEvent, nullptr);
@@ -160,10 +165,6 @@ void SightlineWindowFrame::Render(
     return;
   }
 
-  // Trace fewer rays while the user drags; the still frame afterwards has every pixel.
-  const int step = window->GetDesiredUpdateRate() > this->InteractiveUpdateRate
-    ? this->InteractiveSubsampling
-    : 1;
   const int traceWidth = (width + step - 1) / step;
   const int traceHeight = (height + step - 1) / step;
 

@@ -3,6 +3,7 @@
 
 #include "SightlineKernelConversions.h"
 
+#include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkImageData.h"
@@ -11,6 +12,7 @@
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
+#include "vtkProp3D.h"
 #include "vtkScalarsToColors.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -19,6 +21,7 @@
 #include "sightline/glyphs/SHGlyphSet.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 
@@ -90,6 +93,23 @@ public:
   /// Glyph colours from the point scalars (COLOR_BY_SCALARS); false when there are none.
   bool MapColors(vtkSightlineGlyphMapper* self, vtkDataSet* input,
     const std::vector<std::size_t>& points, std::vector<std::uint32_t>& colors);
+  /// FrustumCulling: the last view's frustum in the mapper's world coordinates (inward unit
+  /// normals n and offsets d, n.x + d >= 0 inside), and the bounding spheres (centre, radius)
+  /// of the glyphs the last build gave loose boxes.
+  bool HasFrustum = false;
+  double Frustum[6][4];
+  std::vector<std::array<double, 4>> LooseSpheres;
+  bool InFrustum(const double centre[3], double radius) const
+  {
+    for (const double* plane : this->Frustum)
+    {
+      if (plane[0] * centre[0] + plane[1] * centre[1] + plane[2] * centre[2] + plane[3] < -radius)
+      {
+        return false;
+      }
+    }
+    return true;
+  }
   /// Centres of the glyphs in world coordinates.
   /// World centres of the glyphs at `points` relative to the returned origin (see
   /// SightlineKernelConversions::ToLocalFrame).
@@ -387,6 +407,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::BuildGeometry()
   in.Drawn.reset();
   in.PointIds.clear();
   this->LastComputedBoxes = 0;
+  this->LastLooseBoxes = 0;
   std::fill(this->DrawnExtent, this->DrawnExtent + 6, 0);
   this->DrawnExtent[1] = this->DrawnExtent[3] = this->DrawnExtent[5] = -1;
 
@@ -448,6 +469,25 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::BuildGeometry()
   request.maxAmplitudes =
     this->Coloring == COLOR_BY_RADIUS && !(this->RadiusRange[0] < this->RadiusRange[1]);
   request.progress = [this](double progress) { this->UpdateProgress(progress); };
+  in.LooseSpheres.clear();
+  if (this->FrustumCulling)
+  {
+    request.mayBeVisible = [this, input, &in](std::size_t point, double radius)
+    {
+      double centre[4] = { 0.0, 0.0, 0.0, 1.0 };
+      input->GetPoint(static_cast<vtkIdType>(point), centre);
+      if (this->DataToWorldMatrix)
+      {
+        this->DataToWorldMatrix->MultiplyPoint(centre, centre);
+      }
+      if (in.HasFrustum && in.InFrustum(centre, radius))
+      {
+        return true;
+      }
+      in.LooseSpheres.push_back({ centre[0], centre[1], centre[2], radius });
+      return false;
+    };
+  }
 
   try
   {
@@ -491,7 +531,59 @@ sightline::PreparedSHGlyphs vtkSightlineGlyphMapper::PrepareSHGlyphs(
   sightline::PreparedSHGlyphs glyphs = preparation.prepare(source, request);
   this->ReportDroppedGlyphs(glyphs.drops, label);
   this->LastComputedBoxes += static_cast<vtkIdType>(glyphs.computedBoxes);
+  this->LastLooseBoxes += static_cast<vtkIdType>(glyphs.looseBoxCount);
   return glyphs;
+}
+
+//------------------------------------------------------------------------------
+void vtkSightlineGlyphMapper::SetView(vtkProp3D* prop, vtkCamera* camera, double aspect, bool interactive)
+{
+  vtkGlyphInternals& in = *this->GlyphInternals;
+  if (!this->FrustumCulling || !camera || !(aspect > 0.0) || !std::isfinite(aspect))
+  {
+    in.HasFrustum = false;
+    return;
+  }
+  // The camera's planes are in VTK's world coordinates; the glyphs are in the prop's: with
+  // x_world = M x_prop, the plane p (as a row) becomes p M.
+  double world[24];
+  camera->GetFrustumPlanes(aspect, world);
+  vtkMatrix4x4* matrix = prop ? prop->GetMatrix() : nullptr;
+  for (int i = 0; i < 6; ++i)
+  {
+    double plane[4];
+    for (int c = 0; c < 4; ++c)
+    {
+      plane[c] = 0.0;
+      for (int r = 0; r < 4; ++r)
+      {
+        plane[c] += world[4 * i + r] * (matrix ? matrix->GetElement(r, c) : (r == c ? 1.0 : 0.0));
+      }
+    }
+    const double length = std::sqrt(plane[0] * plane[0] + plane[1] * plane[1] + plane[2] * plane[2]);
+    if (!(length > 0.0) || !std::isfinite(length))
+    {
+      in.HasFrustum = false; // a degenerate camera or prop matrix: no culling
+      return;
+    }
+    for (int c = 0; c < 4; ++c)
+    {
+      in.Frustum[i][c] = plane[c] / length;
+    }
+  }
+  in.HasFrustum = true;
+  if (interactive)
+  {
+    return;
+  }
+  for (const auto& sphere : in.LooseSpheres)
+  {
+    if (in.InFrustum(sphere.data(), sphere[3]))
+    {
+      this->Modified(); // rebuild with the near-exact boxes of what is now in view
+      return;
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -734,6 +826,8 @@ void vtkSightlineGlyphMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MarchingLinearInterpolation: " << this->MarchingLinearInterpolation << "\n";
   os << indent << "MarchingCentreRefinement: " << this->MarchingCentreRefinement << "\n";
   os << indent << "SubdivisionTolerance: " << this->SubdivisionTolerance << "\n";
+  os << indent << "FrustumCulling: " << this->FrustumCulling << "\n";
   os << indent << "LastComputedBoxes: " << this->LastComputedBoxes << "\n";
+  os << indent << "LastLooseBoxes: " << this->LastLooseBoxes << "\n";
   os << indent << "WorldScale: " << this->WorldScale << "\n";
 }

@@ -291,10 +291,40 @@ public:
   vtkGetMacro(SubdivisionTolerance, double);
   ///@}
 
+  ///@{
+  /**
+   * Frustum culling (default off): the near-exact box search (the costly part of a first
+   * image) runs only for glyphs the camera's view frustum may show; the others get the loose
+   * cube of their coefficient bound, which still encloses them, so every glyph is drawn
+   * exactly wherever a ray reaches it (in shadows, reflections of the view, a later view),
+   * only slower to trace. When a still frame's view shows glyphs with loose boxes, the
+   * geometry is rebuilt with their near-exact boxes (the per-point cache keeps all computed
+   * boxes); interactive frames (while the user drags) do not rebuild. Before the first frame
+   * (e.g. GetBounds() for ResetCamera()) no view is known and every box is loose, so the
+   * bounds are the loose ones. For whole-volume glyph fields seen from close up.
+   */
+  vtkSetMacro(FrustumCulling, bool);
+  vtkGetMacro(FrustumCulling, bool);
+  vtkBooleanMacro(FrustumCulling, bool);
+  ///@}
+
   /**
    * Boxes the last build computed (the others came from the per-point cache).
    */
   vtkGetMacro(LastComputedBoxes, vtkIdType);
+
+  /**
+   * Glyphs of the last build with a loose box (FrustumCulling: outside the view).
+   */
+  vtkGetMacro(LastLooseBoxes, vtkIdType);
+
+#ifndef __VTK_WRAP__
+  /**
+   * FrustumCulling: keeps the view's frustum for the next build, and asks for a rebuild when
+   * a still frame's view shows a glyph with a loose box.
+   */
+  void SetView(vtkProp3D* prop, vtkCamera* camera, double aspect, bool interactive) override;
+#endif
 
   /**
    * Bytes held by the glyph geometry and the per-point caches (not the input).
@@ -388,6 +418,8 @@ protected:
   bool MarchingCentreRefinement = true;
   double SubdivisionTolerance = 1e-4;
   vtkIdType LastComputedBoxes = 0;
+  vtkIdType LastLooseBoxes = 0;
+  bool FrustumCulling = false;
   /// World length of a normalised glyph radius of 1 in the last build.
   double WorldScale = 1.0;
 

@@ -309,6 +309,7 @@ int vtkSightlineImageRenderer::RequestData(
     {
       this->UpdateProgress(double(done++) / props.size());
       const bool opaque = traced.Pass == SightlineTracer::Pass::Opaque;
+      traced.Tracer->SetView(traced.Prop, this->ActiveCamera, static_cast<double>(width) / height, false);
       if (!traced.Tracer->RayTrace(traced.Prop, this->ActiveCamera, this->Lights, width, height,
             layer, opaque ? nullptr : &image.Depth))
       {

@@ -198,6 +198,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineSHGlyphMapper::BuildGlyphs(
     CoefficientSource(uncertainty, uncertaintyOrder, convention), glyphs, request);
   this->ReportDroppedGlyphs(enclosing.drops, uncertaintyLabel);
   this->LastComputedBoxes += static_cast<vtkIdType>(enclosing.computedBoxes);
+  this->LastLooseBoxes += static_cast<vtkIdType>(enclosing.looseBoxCount);
   in.UncertaintySet = this->MakeSHGlyphSet(input, enclosing, true);
   if (in.UncertaintySet && in.UncertaintySet->size() > 0)
   {

@@ -266,6 +266,48 @@ class ParaViewPluginTest(unittest.TestCase):
         self.compare_with_vtk(view, reader, rep, actor, "SHGlyphsMif")
         Delete(view)
 
+    def test_sh_glyph_volume_with_frustum_culling(self):
+        """The whole MIF volume with FrustumCulling in a close-up: the same picture as the plain
+        VTK mapper without culling, and glyphs outside the view keep loose boxes."""
+        reader = OpenDataFile(os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"))
+        view = make_view()
+        rep = Show(reader, view)
+        rep.Representation = "Sightline SH Glyphs"
+        ColorBy(rep, None)
+        rep.SHCoefficients = ["POINTS", "SHCoefficients"]
+        rep.SHBasis = "tournier07 (MRtrix3)"
+        rep.SHLegacyBasis = 0
+        rep.GlyphSliceOrientation = "Extent"
+        rep.GlyphFrustumCulling = 1
+        data = reader.GetClientSideObject().GetOutputDataObject(0)
+        bounds = data.GetBounds()
+        centre = [0.5 * (bounds[2 * i] + bounds[2 * i + 1]) for i in range(3)]
+        view.CameraFocalPoint = centre
+        view.CameraPosition = [centre[0] + 6.0, centre[1] - 8.0, centre[2] + 7.0]
+        view.CameraViewUp = [0, 0, 1]
+        view.CameraParallelProjection = 0
+        Render(view)
+        culled = rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetMapper()
+        loose = culled.GetLastLooseBoxes()
+        self.assertGreater(loose, 0, "the close-up sees every glyph: no culling to test")
+        self.assertGreater(culled.GetLastComputedBoxes(), 0)
+        mapper = sightline.vtkSightlineSHGlyphMapper()
+        mapper.SetInputDataObject(data)
+        mapper.SetCoefficientArrayName("SHCoefficients")
+        mapper.SetBasisToMRtrix3()
+        mapper.SetSliceOrientationToExtent()
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        actor.GetProperty().DeepCopy(rep.GetClientSideObject().GetActiveRepresentation().GetActor().GetProperty())
+        pv_pixels = view_image(view)
+        ref_pixels = reference_image(view, actor)
+        save_png(pv_pixels, "ParaViewSHGlyphVolumeCulled.png")
+        save_png(ref_pixels, "ParaViewSHGlyphVolumeCulledReference.png")
+        self.assertGreater(covered_fraction(pv_pixels, view.Background), 0.05)
+        self.assertLessEqual(differing_fraction(pv_pixels, ref_pixels), 0.001)
+        self.assertEqual(mapper.GetLastLooseBoxes(), 0)
+        Delete(view)
+
     def test_spheres_and_tubes_from_swc(self):
         reader = OpenDataFile(os.path.join(SWC_DIR, "neuron_three_point_soma.swc"))
         view = make_view()

@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -408,6 +409,65 @@ TEST(SHGlyphMapper, SlicesFollowTheAffineAndReuseCachedBoxes)
   EXPECT_LE(mapper->GetNumberOfPrimitives(), 12);
   EXPECT_EQ(mapper->GetDrawnExtent()[1], 4);
   EXPECT_EQ(mapper->GetDrawnExtent()[3], 5);
+}
+
+// Frustum culling on the whole volume: a close-up boxes only the glyphs in view and draws the
+// same picture as without culling; a still frame that shows more boxes those then (an
+// interactive one does not ask for it).
+TEST(SHGlyphMapper, FrustumCullingBoxesOnlyWhatTheViewShows)
+{
+  auto reader = ReadNIfTI("small_64D_sh_descoteaux07.nii.gz");
+  Scene culled(240, 180), plain(240, 180);
+  for (Scene* scene : { &culled, &plain })
+  {
+    scene->mapper->SetInputConnection(reader->GetOutputPort());
+    scene->mapper->SetDataToWorldMatrix(reader->GetQFormMatrix());
+    scene->mapper->SetDirectionToWorldMatrix(FileAxesToWorld(reader));
+    scene->mapper->SetBasisToDIPY();
+    scene->mapper->SetSliceOrientationToExtent();
+  }
+  culled.mapper->FrustumCullingOn();
+  EXPECT_FALSE(plain.mapper->GetFrustumCulling());
+  // One camera for both, framed on the plain mapper's (tight) bounds, then a close-up.
+  plain.renderer->ResetCamera();
+  vtkCamera* camera = plain.renderer->GetActiveCamera();
+  camera->Elevation(-30);
+  camera->OrthogonalizeViewUp();
+  camera->Zoom(5.0);
+  plain.renderer->ResetCameraClippingRange();
+  culled.renderer->GetActiveCamera()->DeepCopy(camera);
+
+  auto renderBoth = [&](const char* view)
+  {
+    SCOPED_TRACE(view);
+    culled.window->Render();
+    plain.window->Render();
+    auto a = CaptureRGB(culled.window), b = CaptureRGB(plain.window);
+    EXPECT_LE(MaxRGBDifference(a, b), 1);
+    EXPECT_GT(CoveredPixels(b), 2000);
+  };
+  renderBoth("close-up");
+  const vtkIdType total = plain.mapper->GetNumberOfPrimitives();
+  EXPECT_EQ(culled.mapper->GetNumberOfPrimitives(), total);
+  EXPECT_EQ(plain.mapper->GetLastLooseBoxes(), 0);
+  EXPECT_GT(total, 500);
+  EXPECT_GT(culled.mapper->GetLastLooseBoxes(), total / 2) << "the close-up sees a small part";
+  EXPECT_EQ(culled.mapper->GetLastComputedBoxes() + culled.mapper->GetLastLooseBoxes(), total);
+  EXPECT_GT(culled.mapper->GetLastComputedBoxes(), 0);
+  std::cout << "[ culling  ] close-up of " << total << " glyphs: " << culled.mapper->GetLastComputedBoxes()
+            << " boxes computed, " << culled.mapper->GetLastLooseBoxes() << " loose" << std::endl;
+
+  // Zoomed out: an interactive view keeps the loose boxes, a still one computes them.
+  camera->Zoom(0.2);
+  plain.renderer->ResetCameraClippingRange();
+  culled.renderer->GetActiveCamera()->DeepCopy(camera);
+  const vtkMTimeType before = culled.mapper->GetMTime();
+  culled.mapper->SetView(culled.actor, culled.renderer->GetActiveCamera(), 240.0 / 180.0, true);
+  EXPECT_EQ(culled.mapper->GetMTime(), before);
+  const vtkIdType loose = culled.mapper->GetLastLooseBoxes();
+  renderBoth("whole field");
+  EXPECT_EQ(culled.mapper->GetLastLooseBoxes(), 0);
+  EXPECT_EQ(culled.mapper->GetLastComputedBoxes(), loose) << "only the boxes not seen before";
 }
 
 // Glyph centres are where the NIfTI header's sform rows put the voxels (read raw here, not

@@ -48,6 +48,11 @@ void vtkSightlineGlyphRepresentation::SetScaleFactor(double factor)
   this->GetGlyphMapper()->SetScaleFactor(factor);
 }
 
+void vtkSightlineGlyphRepresentation::SetFrustumCulling(bool on)
+{
+  this->GetGlyphMapper()->SetFrustumCulling(on);
+}
+
 void vtkSightlineGlyphRepresentation::SetSliceOrientation(int orientation)
 {
   this->GetGlyphMapper()->SetSliceOrientation(orientation);

@@ -33,6 +33,8 @@ public:
   void SetNegativeLobes(int mode);
   void SetNegativeLobeColor(double r, double g, double b);
   void SetIntersectionMethod(int method);
+  /// vtkSightlineGlyphMapper::SetFrustumCulling: boxes only for the glyphs in view.
+  void SetFrustumCulling(bool on);
 
 protected:
   explicit vtkSightlineGlyphRepresentation(vtkSightlineGlyphMapper* mapper);

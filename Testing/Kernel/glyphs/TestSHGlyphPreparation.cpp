@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace
@@ -156,6 +157,98 @@ TEST(SHGlyphPreparation, DropsInvalidAndZeroGlyphsAndCachesBoxes)
 
   request.points = { 7 };
   EXPECT_THROW(preparation.prepare(source, request), std::invalid_argument);
+}
+
+// Frustum culling: glyphs the request says cannot be seen get the loose cube of their
+// coefficient bound instead of the box search, are not cached, get their near-exact box once a
+// later request sees them, and are drawn the same either way (the box only bounds the search).
+TEST(SHGlyphPreparation, CulledGlyphsGetLooseBoxesAndTheSameHits)
+{
+  const int order = 6;
+  std::vector<std::vector<double>> table;
+  for (int i = 0; i < 6; ++i)
+  {
+    const double a = 0.5 * i;
+    table.push_back(sightline_test::glyph::fibreLobeCoefficients(order,
+      { { std::cos(a), std::sin(a), 0.3 }, { -0.2, 0.4 * i, 1.0 } }, 0.05, 30.0));
+  }
+  const GlyphSource source = TableSource(table, order);
+  GlyphRequest request;
+  request.points = AllPoints(table.size());
+  request.worldScale = 0.7;
+  std::vector<double> radii(table.size(), -1.0);
+  request.mayBeVisible = [&](std::size_t point, double radius)
+  {
+    radii.at(point) = radius;
+    return point % 2 == 0;
+  };
+  SHGlyphPreparation culling;
+  const auto culled = culling.prepare(source, request);
+  ASSERT_EQ(culled.size(), table.size());
+  EXPECT_EQ(culled.computedBoxes, 3u);
+  EXPECT_EQ(culled.looseBoxCount, 3u);
+  ASSERT_EQ(culled.looseBoxes.size(), table.size());
+
+  GlyphRequest plain = request;
+  plain.mayBeVisible = nullptr;
+  SHGlyphPreparation fresh;
+  const auto tight = fresh.prepare(source, plain);
+  EXPECT_TRUE(tight.looseBoxes.empty());
+  EXPECT_EQ(tight.looseBoxCount, 0u);
+  for (std::size_t g = 0; g < table.size(); ++g)
+  {
+    SCOPED_TRACE("glyph " + std::to_string(g));
+    const double* b = culled.coefficients.data() + culled.offsets[g];
+    const double bound = sightline::shGlyphBoundingRadius(culled.orders[g], b);
+    EXPECT_NEAR(radii[g], bound * culled.scales[g], 1e-12 * bound);
+    EXPECT_EQ(culled.looseBoxes[g], g % 2 == 0 ? 0 : 1);
+    for (int axis = 0; axis < 3; ++axis)
+      if (g % 2 == 0)
+        EXPECT_EQ(culled.halfExtents[g][axis], tight.halfExtents[g][axis]);
+      else
+      {
+        EXPECT_GE(culled.halfExtents[g][axis], float(bound * culled.scales[g]));
+        EXPECT_LE(culled.halfExtents[g][axis], float(1.00001 * bound * culled.scales[g]));
+        EXPECT_GT(culled.halfExtents[g][axis], tight.halfExtents[g][axis]);
+      }
+  }
+
+  // Seen now: exactly the loose boxes are computed, equal to a fresh preparation's.
+  const auto seen = culling.prepare(source, plain);
+  EXPECT_EQ(seen.computedBoxes, 3u);
+  EXPECT_TRUE(seen.looseBoxes.empty());
+  for (std::size_t g = 0; g < table.size(); ++g)
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_EQ(seen.halfExtents[g][axis], tight.halfExtents[g][axis]);
+
+  // The same hits through the loose and the tight boxes: rays down through a grid over each
+  // glyph's loose box, from outside and from the glyph's centre.
+  std::vector<sightline::vec3> centers;
+  for (std::size_t g = 0; g < table.size(); ++g)
+    centers.emplace_back(float(3 * g), 1.0f, -2.0f);
+  const sightline::SHGlyphSet looseSet(centers, culled), tightSet(centers, tight);
+  int hits = 0;
+  for (unsigned g = 0; g < centers.size(); ++g)
+  {
+    const sightline::vec3 h = looseSet.halfExtents(g);
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j)
+        for (const double z : { 3.0, 0.0 })
+        {
+          const sightline::dvec3 origin = sightline::dvec3(centers[g]) +
+            sightline::dvec3(h.x * (i / 20.0 - 1.0), h.y * (j / 20.0 - 1.0), z);
+          const sightline::DoubleRay ray(origin, sightline::dvec3(0.1, -0.05, -1.0), 0.0, 1e30);
+          sightline::SurfaceHit a, b;
+          const bool hitLoose = looseSet.intersect(g, ray, a), hitTight = tightSet.intersect(g, ray, b);
+          ASSERT_EQ(hitLoose, hitTight) << "glyph " << g << " ray " << i << ", " << j << ", z " << z;
+          if (hitLoose)
+          {
+            ++hits;
+            EXPECT_NEAR(a.t, b.t, 1e-6 * double(h.x));
+          }
+        }
+  }
+  EXPECT_GT(hits, 1000);
 }
 
 TEST(SHGlyphPreparation, PreparedGlyphSetMatchesTheConvertingConstructor)

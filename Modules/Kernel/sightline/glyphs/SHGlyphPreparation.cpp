@@ -251,9 +251,33 @@ PreparedSHGlyphs SHGlyphPreparation::prepare(const GlyphSource& source, const Gl
 void SHGlyphPreparation::computeBoxes(PreparedSHGlyphs& glyphs, const GlyphRequest& request)
 {
   std::vector<std::size_t> missing;
+  glyphs.looseBoxes.clear();
+  glyphs.looseBoxCount = 0;
+  std::vector<float> looseRadius; // unscaled, per glyph; 0 where the box is computed
   for (std::size_t g = 0; g < glyphs.size(); ++g)
-    if (std::isnan(Cache.halfExtents[glyphs.points[g]].x))
-      missing.push_back(g);
+  {
+    if (!std::isnan(Cache.halfExtents[glyphs.points[g]].x))
+      continue;
+    if (request.mayBeVisible)
+    {
+      // The coefficient bound is cheap (a norm per band); the box search is not.
+      const double radius = shGlyphBoundingRadius(glyphs.orders[g], glyphs.coefficients.data() + glyphs.offsets[g]);
+      if (!request.mayBeVisible(glyphs.points[g], radius * std::abs(double(glyphs.scales[g]))))
+      {
+        if (glyphs.looseBoxes.empty())
+        {
+          glyphs.looseBoxes.assign(glyphs.size(), 0);
+          looseRadius.assign(glyphs.size(), 0.0f);
+        }
+        glyphs.looseBoxes[g] = 1;
+        // Rounded up past the double bound (float keeps 24 bits).
+        looseRadius[g] = float(radius * (1.0 + 1e-6));
+        ++glyphs.looseBoxCount;
+        continue;
+      }
+    }
+    missing.push_back(g);
+  }
   for (std::size_t start = 0; start < missing.size(); start += kBoxBlock)
   {
     const std::size_t end = std::min(missing.size(), start + kBoxBlock);
@@ -269,7 +293,8 @@ void SHGlyphPreparation::computeBoxes(PreparedSHGlyphs& glyphs, const GlyphReque
   glyphs.computedBoxes = missing.size();
   glyphs.halfExtents.resize(glyphs.size());
   for (std::size_t g = 0; g < glyphs.size(); ++g)
-    glyphs.halfExtents[g] = Cache.halfExtents[glyphs.points[g]] * std::abs(glyphs.scales[g]);
+    glyphs.halfExtents[g] = (glyphs.looseBoxes.empty() || !glyphs.looseBoxes[g]
+      ? Cache.halfExtents[glyphs.points[g]] : vec3(looseRadius[g])) * std::abs(glyphs.scales[g]);
 }
 
 PreparedSHGlyphs SHGlyphPreparation::prepareAlongside(const GlyphSource& source,

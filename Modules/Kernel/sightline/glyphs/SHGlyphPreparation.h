@@ -54,6 +54,13 @@ struct GlyphRequest
   double worldScale = 1.0;          ///< world length of a normalised radius of 1
   bool maxAmplitudes = false;       ///< also return each glyph's largest amplitude
   std::function<void(double)> progress; ///< box computation, 0..1 (may be empty)
+  /// Frustum culling (may be empty): whether the glyph of input point `point`, inside a sphere
+  /// of world radius `radius` around it, may be seen. A glyph for which it returns false gets
+  /// a loose box instead of the near-exact box search: the cube around that sphere (the
+  /// coefficient bound, which encloses the glyph), so it is still drawn exactly wherever a ray
+  /// reaches it (shadows, a later view), only slower. Loose boxes are not cached: a later
+  /// preparation that sees the glyph computes its box then. Called from one thread.
+  std::function<bool(std::size_t point, double radius)> mayBeVisible;
 };
 
 /// Invalid or empty glyphs of a preparation, for the caller's report.
@@ -76,6 +83,10 @@ struct PreparedSHGlyphs
   std::vector<float> maxAmplitudes;  ///< largest |F| per glyph when requested, input units
   GlyphDrops drops;
   std::size_t computedBoxes = 0; ///< boxes not found in the cache
+  /// Per glyph, 1 where its box is loose (culled by GlyphRequest::mayBeVisible); empty when
+  /// none is.
+  std::vector<std::uint8_t> looseBoxes;
+  std::size_t looseBoxCount = 0;
 
   std::size_t size() const { return points.size(); }
 };

@@ -7,8 +7,8 @@ extent), 1920x1080.
 
 Reports: the glyphs drawn; the box computation (the mapper's geometry, which VTK's first
 ResetCameraClippingRange asks for through GetBounds); the first Render; the first image (both);
-a still frame after a small turn; then a frame of the other view: the close-up (dolly 3x: most
-glyphs behind the camera or outside the view) after the whole field, or the whole field after
+a still frame after a small turn; then a frame of the other view: the close-up (dolly 3x, or
+--dolly: most glyphs behind the camera or outside the view) after the whole field, or the whole field after
 the close-up (--first-view close); peak RSS before the mapper and at the end. With --culling the
 mapper's FrustumCulling is on: boxes only for the glyphs in view (the rest get loose boxes until
 a still frame shows them); the boxes computed and left loose are reported per frame. Timings
@@ -16,7 +16,7 @@ are the machine's, not pass/fail.
 
 Usage: xvfb-run -a -s "-noreset -screen 0 1920x1080x24" /usr/bin/python3 sh_glyph_volume.py
          [--data-dir DIR] [--tile 10 10 6] [--size 1920 1080] [--culling]
-         [--first-view whole|close] [--png FILE]
+         [--first-view whole|close] [--dolly 3] [--png FILE]
 with PYTHONPATH at the build tree's lib/python3/dist-packages. DIR holds
 small_64D_sh_descoteaux07.nii.gz (scripts/make_sh_data.py DIR writes it; it is run when missing).
 """
@@ -51,6 +51,8 @@ def main():
     parser.add_argument("--culling", action="store_true", help="FrustumCulling on")
     parser.add_argument("--first-view", choices=["whole", "close"], default="whole",
                         help="the view of the first image (the other one comes last)")
+    parser.add_argument("--dolly", type=float, default=3.0,
+                        help="how far the close-up moves towards the centre (camera Dolly)")
     parser.add_argument("--check", action="store_true",
                         help="fail unless every glyph is drawn and, with --culling and a "
                         "close first view, the close-up left boxes loose and the whole field "
@@ -94,7 +96,7 @@ def main():
     # The view of the default 100-voxel-wide field, scaled with the field.
     camera.SetPosition(*(centre + np.array([260.0, -330.0, 300.0]) * max(nx, ny, nz) / 100.0))
     if args.first_view == "close":
-        camera.Dolly(3.0)
+        camera.Dolly(args.dolly)
 
     def boxes():
         return (f"{mapper.GetLastComputedBoxes()} boxes computed, "
@@ -111,7 +113,7 @@ def main():
     camera.Azimuth(3.0)
     window.Render()
     still = time.perf_counter()
-    camera.Dolly(3.0 if args.first_view == "whole" else 1.0 / 3.0)
+    camera.Dolly(args.dolly if args.first_view == "whole" else 1.0 / args.dolly)
     renderer.ResetCameraClippingRange()
     window.Render()
     other = time.perf_counter()

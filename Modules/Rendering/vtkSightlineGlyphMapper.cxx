@@ -10,6 +10,7 @@
 #include "vtkMath.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkProp3D.h"
@@ -93,15 +94,19 @@ public:
   /// Glyph colours from the point scalars (COLOR_BY_SCALARS); false when there are none.
   bool MapColors(vtkSightlineGlyphMapper* self, vtkDataSet* input,
     const std::vector<std::size_t>& points, std::vector<std::uint32_t>& colors);
-  /// FrustumCulling: the last view's frustum in the mapper's world coordinates (inward unit
-  /// normals n and offsets d, n.x + d >= 0 inside), and the bounding spheres (centre, radius)
-  /// of the glyphs the last build gave loose boxes.
+  /// FrustumCulling: planes in the mapper's world coordinates (inward unit normals n and
+  /// offsets d, n.x + d >= 0 inside). The view's frustum decides when to rebuild; a wider one
+  /// (half again the view angle, the depth range doubled) decides which boxes a build computes,
+  /// so that small camera moves do not each ask for a rebuild.
+  using Frustum = std::array<std::array<double, 4>, 6>;
   bool HasFrustum = false;
-  double Frustum[6][4];
+  Frustum View;
+  Frustum Build;
+  /// The bounding spheres (centre, radius) of the glyphs the last build gave loose boxes.
   std::vector<std::array<double, 4>> LooseSpheres;
-  bool InFrustum(const double centre[3], double radius) const
+  static bool Inside(const Frustum& frustum, const double centre[3], double radius)
   {
-    for (const double* plane : this->Frustum)
+    for (const auto& plane : frustum)
     {
       if (plane[0] * centre[0] + plane[1] * centre[1] + plane[2] * centre[2] + plane[3] < -radius)
       {
@@ -480,7 +485,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineGlyphMapper::BuildGeometry()
       {
         this->DataToWorldMatrix->MultiplyPoint(centre, centre);
       }
-      if (in.HasFrustum && in.InFrustum(centre, radius))
+      if (in.HasFrustum && vtkGlyphInternals::Inside(in.Build, centre, radius))
       {
         return true;
       }
@@ -539,37 +544,50 @@ sightline::PreparedSHGlyphs vtkSightlineGlyphMapper::PrepareSHGlyphs(
 void vtkSightlineGlyphMapper::SetView(vtkProp3D* prop, vtkCamera* camera, double aspect, bool interactive)
 {
   vtkGlyphInternals& in = *this->GlyphInternals;
+  in.HasFrustum = false;
   if (!this->FrustumCulling || !camera || !(aspect > 0.0) || !std::isfinite(aspect))
   {
-    in.HasFrustum = false;
     return;
   }
   // The camera's planes are in VTK's world coordinates; the glyphs are in the prop's: with
   // x_world = M x_prop, the plane p (as a row) becomes p M.
-  double world[24];
-  camera->GetFrustumPlanes(aspect, world);
   vtkMatrix4x4* matrix = prop ? prop->GetMatrix() : nullptr;
-  for (int i = 0; i < 6; ++i)
+  auto planesOf = [&](vtkCamera* view, vtkGlyphInternals::Frustum& frustum)
   {
-    double plane[4];
-    for (int c = 0; c < 4; ++c)
+    double world[24];
+    view->GetFrustumPlanes(aspect, world);
+    for (int i = 0; i < 6; ++i)
     {
-      plane[c] = 0.0;
-      for (int r = 0; r < 4; ++r)
+      double plane[4];
+      for (int c = 0; c < 4; ++c)
       {
-        plane[c] += world[4 * i + r] * (matrix ? matrix->GetElement(r, c) : (r == c ? 1.0 : 0.0));
+        plane[c] = 0.0;
+        for (int r = 0; r < 4; ++r)
+        {
+          plane[c] += world[4 * i + r] * (matrix ? matrix->GetElement(r, c) : (r == c ? 1.0 : 0.0));
+        }
+      }
+      const double length = std::sqrt(plane[0] * plane[0] + plane[1] * plane[1] + plane[2] * plane[2]);
+      if (!(length > 0.0) || !std::isfinite(length))
+      {
+        return false; // a degenerate camera or prop matrix: no culling
+      }
+      for (int c = 0; c < 4; ++c)
+      {
+        frustum[i][c] = plane[c] / length;
       }
     }
-    const double length = std::sqrt(plane[0] * plane[0] + plane[1] * plane[1] + plane[2] * plane[2]);
-    if (!(length > 0.0) || !std::isfinite(length))
-    {
-      in.HasFrustum = false; // a degenerate camera or prop matrix: no culling
-      return;
-    }
-    for (int c = 0; c < 4; ++c)
-    {
-      in.Frustum[i][c] = plane[c] / length;
-    }
+    return true;
+  };
+  vtkNew<vtkCamera> wide;
+  wide->DeepCopy(camera);
+  wide->SetViewAngle(std::min(170.0, 1.5 * camera->GetViewAngle()));
+  wide->SetParallelScale(1.5 * camera->GetParallelScale());
+  const double* range = camera->GetClippingRange();
+  wide->SetClippingRange(0.5 * range[0], 2.0 * range[1]);
+  if (!planesOf(camera, in.View) || !planesOf(wide, in.Build))
+  {
+    return;
   }
   in.HasFrustum = true;
   if (interactive)
@@ -578,7 +596,7 @@ void vtkSightlineGlyphMapper::SetView(vtkProp3D* prop, vtkCamera* camera, double
   }
   for (const auto& sphere : in.LooseSpheres)
   {
-    if (in.InFrustum(sphere.data(), sphere[3]))
+    if (vtkGlyphInternals::Inside(in.View, sphere.data(), sphere[3]))
     {
       this->Modified(); // rebuild with the near-exact boxes of what is now in view
       return;

@@ -293,15 +293,16 @@ public:
 
   ///@{
   /**
-   * Frustum culling (default off): the near-exact box search (the costly part of a first
-   * image) runs only for glyphs the camera's view frustum may show; the others get the loose
-   * cube of their coefficient bound, which still encloses them, so every glyph is drawn
-   * exactly wherever a ray reaches it (in shadows, reflections of the view, a later view),
-   * only slower to trace. When a still frame's view shows glyphs with loose boxes, the
-   * geometry is rebuilt with their near-exact boxes (the per-point cache keeps all computed
-   * boxes); interactive frames (while the user drags) do not rebuild. Before the first frame
-   * (e.g. GetBounds() for ResetCamera()) no view is known and every box is loose, so the
-   * bounds are the loose ones. For whole-volume glyph fields seen from close up.
+   * Frustum culling (default off): the near-exact box search runs only for the glyphs the
+   * camera may show (its frustum widened to half again the view angle and twice the depth
+   * range, so that small camera moves stay inside). The others get the loose cube of their
+   * coefficient bound, which still encloses them: every glyph is drawn exactly wherever a ray
+   * reaches it (shadows, a later view), only slower to trace. When a still frame's view shows
+   * a glyph with a loose box, the geometry is rebuilt with the near-exact boxes of what is in
+   * view (the per-point cache keeps every box computed); interactive frames (while the user
+   * drags) never rebuild. Before the first frame (GetBounds() for ResetCamera()) no view is
+   * known, every box is loose and so are the bounds. Pays for close-ups of whole-volume glyph
+   * fields; a view of the whole field pays one extra build (Benchmarks/README.md).
    */
   vtkSetMacro(FrustumCulling, bool);
   vtkGetMacro(FrustumCulling, bool);

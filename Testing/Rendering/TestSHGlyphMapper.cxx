@@ -433,7 +433,7 @@ TEST(SHGlyphMapper, FrustumCullingBoxesOnlyWhatTheViewShows)
   vtkCamera* camera = plain.renderer->GetActiveCamera();
   camera->Elevation(-30);
   camera->OrthogonalizeViewUp();
-  camera->Zoom(5.0);
+  camera->Zoom(10.0);
   plain.renderer->ResetCameraClippingRange();
   culled.renderer->GetActiveCamera()->DeepCopy(camera);
 
@@ -458,7 +458,7 @@ TEST(SHGlyphMapper, FrustumCullingBoxesOnlyWhatTheViewShows)
             << " boxes computed, " << culled.mapper->GetLastLooseBoxes() << " loose" << std::endl;
 
   // Zoomed out: an interactive view keeps the loose boxes, a still one computes them.
-  camera->Zoom(0.2);
+  camera->Zoom(0.1);
   plain.renderer->ResetCameraClippingRange();
   culled.renderer->GetActiveCamera()->DeepCopy(camera);
   const vtkMTimeType before = culled.mapper->GetMTime();

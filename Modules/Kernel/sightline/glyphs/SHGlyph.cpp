@@ -18,6 +18,17 @@ namespace sightline
 {
 namespace
 {
+// An AVX2 clone beside the portable one, chosen when the library loads (an ELF ifunc), where
+// the compiler and platform offer it: x86-64 Linux with GCC or Clang; elsewhere the portable
+// code alone. Helpers meant to run at the clone's width are forced inline into it.
+#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
+#define SIGHTLINE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#define SIGHTLINE_INLINE_INTO_CLONES __attribute__((always_inline)) inline
+#else
+#define SIGHTLINE_AVX2_CLONES
+#define SIGHTLINE_INLINE_INTO_CLONES inline
+#endif
+
 constexpr long double kPiLong = kPiOf<long double>;
 constexpr int kOrderSlots = kMaxGlyphOrder / 2 + 1;
 
@@ -37,8 +48,9 @@ struct RayTables
   /// largest distance of the glyph's cross-section from the ray's line through the centre.
   T sineBound[kMaxGlyphOrder + 1];
   /// The cross-section's height test: q(theta) = g(cos, sin) sin, a trigonometric polynomial of
-  /// degree k + 1, sampled at kHeightSamples(k) angles theta_j = (j + 1/2) pi / M of [0, pi)
-  /// (|q| has period pi): heightBasis[i][j] = cos^i sin^(k+1-i) at theta_j, zero past M.
+  /// degree k + 1, sampled at M = heightSamples = 4 (k + 1) angles theta_j = (j + 1/2) pi / M
+  /// of [0, pi) (|q| has period pi): heightBasis[i][j] = cos^i sin^(k+1-i) at theta_j, zero
+  /// past M.
   static constexpr int kMaxHeightSamples = 4 * (kMaxGlyphOrder + 1);
   int heightSamples = 0;
   T heightBasis[kMaxGlyphOrder + 2][kMaxHeightSamples];
@@ -104,21 +116,18 @@ struct RayTables
     // |q''| <= m^2 max|q|; at the maximum q' = 0 and the nearest sample is within pi / (2 M):
     // |q(theta_j)| >= max|q| (1 - m^2 pi^2 / (8 M^2)). M = 4 m: a factor of 1.084.
     heightSamples = 4 * (k + 1);
-    for (int i = 0; i <= k + 1; ++i)
-      for (int j = 0; j < kMaxHeightSamples; ++j)
-      {
-        const long double angle = (j + 0.5L) * kPiLong / heightSamples;
-        heightBasis[i][j] = j < heightSamples
-          ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
-      }
-    const long double m = k + 1;
-    heightCurvature = T(m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples));
-    heightFactor = T(1.0L / (1.0L - m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples)));
     for (int j = 0; j < kMaxHeightSamples; ++j)
     {
       const long double angle = (j + 0.5L) * kPiLong / heightSamples;
-      heightCotangent[j] = j < heightSamples ? T(std::cos(angle) / std::sin(angle)) : T(0);
+      const bool used = j < heightSamples;
+      for (int i = 0; i <= k + 1; ++i)
+        heightBasis[i][j] = used ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
+      heightCotangent[j] = used ? T(std::cos(angle) / std::sin(angle)) : T(0);
     }
+    const long double m = k + 1;
+    const long double curvature = m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples);
+    heightCurvature = T(curvature);
+    heightFactor = T(1.0L / (1.0L - curvature));
     long double c = 1.0L;
     for (int j = 0; j <= k + 1; ++j)
     {
@@ -248,8 +257,8 @@ inline void evaluateSHSumBatch(const T* coefficients, const T* x, const T* y, co
 }
 
 template <int K, class T>
-__attribute__((always_inline)) inline int intersectOrder(const T* b, const T o[3], const T d[3], T tmin, T tmax, T tolerance, T* t,
-  bool firstOnly)
+SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const T d[3], T tmin,
+  T tmax, T tolerance, T* t, bool firstOnly)
 {
   const RayTables<T>& tab = rayTables<T>(K);
   const auto evaluate = [](const T* c, T x, T y, T z) { return evaluateSHSum<T>(K, c, x, y, z); };
@@ -448,14 +457,6 @@ __attribute__((always_inline)) inline int intersectOrder(const T* b, const T o[3
   return kept;
 }
 
-// An AVX2 clone beside the portable one, chosen when the library loads (an ELF ifunc), where
-// the compiler and platform offer it: x86-64 Linux with GCC or Clang; elsewhere the portable
-// code alone.
-#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
-#define SIGHTLINE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define SIGHTLINE_AVX2_CLONES
-#endif
 
 using Lanes4 = double __attribute__((vector_size(32))); // two SSE2 registers, one AVX2 one
 
@@ -653,7 +654,7 @@ namespace
 /// intersectOrder is inlined into each clone, so the SH sums, the height test and the
 /// polynomial use the wider registers; without FMA contraction the same bits).
 template <class T>
-__attribute__((always_inline)) inline int intersectAnyOrder(int order, const T* coefficients,
+SIGHTLINE_INLINE_INTO_CLONES int intersectAnyOrder(int order, const T* coefficients,
   const T origin[3], const T direction[3], T tmin, T tmax, T tolerance, T* t, bool firstOnly)
 {
   switch (order)

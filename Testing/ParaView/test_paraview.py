@@ -238,7 +238,10 @@ class ParaViewPluginTest(unittest.TestCase):
             self.compare_with_vtk(view, height, rep, actor, "TubesTrkTranslucent", colour_tolerance=3)
             Delete(view)
 
-    def test_sh_glyphs_from_mif(self):
+    @staticmethod
+    def show_mif_sh_glyphs():
+        """small_64D's MRtrix3 file as Sightline SH glyphs in a new view, coloured by lobe
+        direction: (reader, view, representation)."""
         reader = OpenDataFile(os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"))
         view = make_view()
         rep = Show(reader, view)
@@ -247,6 +250,10 @@ class ParaViewPluginTest(unittest.TestCase):
         rep.SHCoefficients = ["POINTS", "SHCoefficients"]
         rep.SHBasis = "tournier07 (MRtrix3)"
         rep.SHLegacyBasis = 0
+        return reader, view, rep
+
+    def test_sh_glyphs_from_mif(self):
+        reader, view, rep = self.show_mif_sh_glyphs()
         rep.GlyphSliceOrientation = "Axial"
         rep.GlyphSlice = -1
         view.CameraPosition = [0, 0, 1]
@@ -269,14 +276,7 @@ class ParaViewPluginTest(unittest.TestCase):
     def test_sh_glyph_volume_with_frustum_culling(self):
         """The whole MIF volume with FrustumCulling in a close-up: the same picture as the plain
         VTK mapper without culling, and glyphs outside the view keep loose boxes."""
-        reader = OpenDataFile(os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"))
-        view = make_view()
-        rep = Show(reader, view)
-        rep.Representation = "Sightline SH Glyphs"
-        ColorBy(rep, None)
-        rep.SHCoefficients = ["POINTS", "SHCoefficients"]
-        rep.SHBasis = "tournier07 (MRtrix3)"
-        rep.SHLegacyBasis = 0
+        reader, view, rep = self.show_mif_sh_glyphs()
         rep.GlyphSliceOrientation = "Extent"
         rep.GlyphFrustumCulling = 1
         data = reader.GetClientSideObject().GetOutputDataObject(0)

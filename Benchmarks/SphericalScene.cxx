@@ -280,9 +280,7 @@ std::vector<MethodResult> runSphericalScene(
       integrateAll(rays, values,
         [&](const dvec3& o, const dvec3& d)
         {
-          thread_local std::vector<sightline::CellSegment> segments;
-          traversal.traverse(o, d, 0.0, 4.0, segments);
-          return sightline::projectCellConstant(grid, cells, segments, 1.0);
+          return sightline::projectCellConstant(traversal, cells, o, d, 0.0, 4.0);
         });
     });
   finish(spherical, values);

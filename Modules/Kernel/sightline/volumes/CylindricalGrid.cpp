@@ -117,7 +117,12 @@ void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin,
   const int first[3] = { radialStart, heightStart, azimuthStart };
   std::vector<Transition>* lists[3] = { &radial, &heights, &azimuthList };
   const int counts[3] = { Grid.radialCells(), nz, Grid.azimuthalCells() };
-  traversal::mergeTransitions(first, lists, counts, tmin, tmax, out);
+  traversal::forEachMergedCell(traversal::sealCrossings(first, lists, counts, tmin, tmax),
+    [&](int r, int z, int phi, double t0, double t1)
+    {
+      out.push_back({ r, z, phi, t0, t1 });
+      return true;
+    });
 }
 
 double projectCellConstant(const CylindricalGrid& grid, const std::vector<double>& values,

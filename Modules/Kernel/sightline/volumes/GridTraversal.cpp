@@ -47,17 +47,30 @@ int radialTransitions(const std::vector<double>& radius, const std::vector<doubl
 {
   auto index = [&](double r2)
   { return int(std::upper_bound(radiusSquared.begin(), radiusSquared.end(), r2) - radiusSquared.begin()) - 1; };
-  auto halfChordOf = [&](double r)
-  { return std::sqrt(std::max(0.0, (r - closestDistance) * (r + closestDistance)) / dd); };
   const int first = index(startSquared);
   const int last = index(endSquared);
   // The lowest shell: at the hinge when it lies inside [tmin, tmax], else at whichever end is
   // nearer to it (a ray ending before its closest approach only falls).
   const int lowest = tClosest <= tmin ? first : tClosest >= tmax ? last : index(closestDistance * closestDistance);
-  for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
-    out.push_back({ tClosest - halfChordOf(radius[std::size_t(i)]), i - 1 });
-  for (int i = lowest; i < last; ++i) // rising: leave shell i through r_{i+1}
-    out.push_back({ tClosest + halfChordOf(radius[std::size_t(i + 1)]), i + 1 });
+  // The ray falls through r_first .. r_{lowest+1} and rises through r_{lowest+1} .. r_last:
+  // each sphere's half chord once, for both crossings, in a loop without dependencies.
+  const int top = std::max(first, last);
+  thread_local std::vector<double> halfChords;
+  if (top > lowest)
+  {
+    halfChords.resize(std::size_t(top - lowest));
+    double* half = halfChords.data() - (lowest + 1); // half[i] for radius i
+    const double* r = radius.data();
+    for (int i = lowest + 1; i <= top; ++i)
+      half[i] = std::sqrt(std::max(0.0, (r[i] - closestDistance) * (r[i] + closestDistance)) / dd);
+    const std::size_t begin = out.size();
+    out.resize(begin + std::size_t(std::max(0, first - lowest) + std::max(0, last - lowest)));
+    Transition* next = out.data() + begin;
+    for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
+      *next++ = { tClosest - half[i], i - 1 };
+    for (int i = lowest + 1; i <= last; ++i) // rising: leave shell i - 1 through r_i
+      *next++ = { tClosest + half[i], i };
+  }
   clampAscending(out, tmin, tmax);
   return first;
 }
@@ -74,13 +87,20 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
   const dvec3& start, const dvec3& end, std::vector<Transition>& out) const
 {
   const int azimuthCount = int(HalfPlanes.size());
-  thread_local std::vector<std::pair<double, int>> crossings; // (unwrapped angle, breakpoint)
   const double phi0 = HalfPlanes.front().z;
   auto unwrap = [&](const dvec3& x)
   {
-    double phi = std::atan2(x.y, x.x);
-    phi = phi0 + std::fmod(std::fmod(phi - phi0, kTwoPi) + kTwoPi, kTwoPi); // in [phi0, phi0 + 2 pi)
-    return phi;
+    // phi0 + ((phi - phi0) mod 2 pi), in [phi0, phi0 + 2 pi). Within a turn of phi0 (every
+    // grid whose azimuths start in [-pi, 3 pi)) the two exact subtractions give fmod's bits.
+    const double a = std::atan2(x.y, x.x) - phi0;
+    if (!(std::abs(a) < kTwoPi))
+      return phi0 + std::fmod(std::fmod(a, kTwoPi) + kTwoPi, kTwoPi);
+    double b = a + kTwoPi;
+    if (b >= kTwoPi)
+      b -= kTwoPi;
+    if (b >= kTwoPi)
+      b -= kTwoPi;
+    return phi0 + b;
   };
   auto azimuthIndex = [&](double phi)
   {
@@ -126,13 +146,16 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
         phiEnd = phiEndRaw;
       }
       // Boundaries strictly between the two azimuths, in sweep order, as unwrapped angles.
-      int index = azimuthStart;
-      crossings.clear();
       // The half-planes' angles over three laps, phi_k + lap 2 pi (the full circle's last
       // breakpoint is its first), form one increasing sequence: binary search for the first
       // one past the start, then walk in the sweep's direction to the end.
       const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
-      auto angleOf = [&](int v) { return Azimuth[std::size_t(v % perLap)] + (v / perLap - 1) * kTwoPi; };
+      auto lapOf = [&](int v) { return int(v >= perLap) + int(v >= 2 * perLap); };
+      auto angleOf = [&](int v)
+      {
+        const int lap = lapOf(v);
+        return Azimuth[std::size_t(v - lap * perLap)] + (lap - 1) * kTwoPi;
+      };
       int lo = 0, hi = 3 * perLap; // first v with angle > phiStart
       while (lo < hi)
       {
@@ -142,59 +165,48 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
         else
           lo = mid + 1;
       }
+      auto crossAt = [&](int k)
+      {
+        const dvec3& h = HalfPlanes[std::size_t(k)];
+        if (throughAxis)
+          return tAxis;
+        const double denominator = d.y * h.x - d.x * h.y;
+        return denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
+      };
       // A start exactly on phi_k counts as wedge k: rising it stays, falling it leaves.
+      // Rising through phi_k enters wedge k; falling through it enters wedge k - 1.
       if (rising)
         for (int v = lo; v < 3 * perLap && angleOf(v) <= phiEnd; ++v)
-          crossings.push_back({ angleOf(v), v % perLap });
+        {
+          const int k = v - lapOf(v) * perLap;
+          out.push_back({ crossAt(k), k == azimuthCount - 1 ? -1 : k });
+        }
       else
         for (int v = lo - 1; v >= 0 && angleOf(v) >= phiEnd; --v)
-          crossings.push_back({ angleOf(v), v % perLap });
-      for (const auto& crossing : crossings)
-      {
-        const int k = crossing.second;
-        const dvec3& h = HalfPlanes[std::size_t(k)];
-        double t = tAxis;
-        if (!throughAxis)
         {
-          const double denominator = d.y * h.x - d.x * h.y;
-          t = denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
+          const int k = v - lapOf(v) * perLap;
+          out.push_back({ crossAt(k), k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1 });
         }
-        // Rising through phi_k enters wedge k; falling through it enters wedge k - 1.
-        if (rising)
-          index = (k == azimuthCount - 1) ? -1 : k;
-        else
-          index = k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1;
-        out.push_back({ t, index });
-      }
       clampAscending(out, tmin, tmax);
     }
   }
   return azimuthStart;
 }
 
-void mergeTransitions(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
-  double tmin, double tmax, std::vector<CellSegment>& out)
+Crossings sealCrossings(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
+  double tmin, double tmax)
 {
-  // A sentinel at +infinity ends each list, so the loop needs no bounds checks.
-  constexpr double kEnd = std::numeric_limits<double>::infinity();
+  Crossings c;
   for (int list = 0; list < 3; ++list)
-    lists[list]->push_back({ kEnd, 0 });
-  const Transition* next[3] = { lists[0]->data(), lists[1]->data(), lists[2]->data() };
-  int index[3] = { first[0], first[1], first[2] };
-  double t0 = tmin;
-  for (;;)
   {
-    const int which = next[0]->t <= next[1]->t ? (next[0]->t <= next[2]->t ? 0 : 2) : (next[1]->t <= next[2]->t ? 1 : 2);
-    const double t1 = next[which]->t == kEnd ? tmax : next[which]->t;
-    if (t1 > t0 && unsigned(index[0]) < unsigned(counts[0]) && unsigned(index[1]) < unsigned(counts[1]) &&
-      unsigned(index[2]) < unsigned(counts[2]))
-      out.push_back({ index[0], index[1], index[2], t0, t1 });
-    t0 = std::max(t0, t1);
-    if (next[which]->t == kEnd)
-      break;
-    index[which] = next[which]->index;
-    ++next[which];
+    lists[list]->push_back({ std::numeric_limits<double>::infinity(), 0 });
+    c.lists[list] = lists[list]->data();
+    c.first[list] = first[list];
+    c.counts[list] = counts[list];
   }
+  c.tmin = tmin;
+  c.tmax = tmax;
+  return c;
 }
 } // namespace traversal
 } // namespace sightline

@@ -23,13 +23,6 @@ void checkBreakpoints(const std::vector<double>& v, const char* owner, const cha
 /// Whether azimuth breakpoints span the full circle (2 pi to 1e-12).
 bool spansFullCircle(const std::vector<double>& azimuth);
 
-/// A crossing where one coordinate's index changes.
-struct Transition
-{
-  double t;
-  int index; ///< the index after the crossing
-};
-
 /// Keeps the list's t ascending and inside [tmin, tmax] (rounding near hinges may swap
 /// neighbours by an ulp).
 void clampAscending(std::vector<Transition>& list, double tmin, double tmax);
@@ -59,10 +52,9 @@ private:
   bool FullCircle = false;
 };
 
-/// Merges three ascending transition lists into the segments of cells whose three indices are
-/// all inside [0, counts[i]), emitted as CellSegment{ index 0, index 1, index 2 }. Appends a
-/// sentinel to each list.
-void mergeTransitions(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
-  double tmin, double tmax, std::vector<CellSegment>& out);
+/// The three ascending transition lists ready to merge (CellCrossings.h): appends the sentinel
+/// to each.
+Crossings sealCrossings(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
+  double tmin, double tmax);
 } // namespace traversal
 } // namespace sightline

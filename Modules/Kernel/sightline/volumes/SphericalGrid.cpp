@@ -55,16 +55,27 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   std::vector<CellSegment>& out) const
 {
   out.clear();
+  forEachCell(p, d, tmin, tmax,
+    [&](int r, int theta, int phi, double t0, double t1)
+    {
+      out.push_back({ r, theta, phi, t0, t1 });
+      return true;
+    });
+}
+
+bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, double tmax,
+  traversal::Crossings& crossed) const
+{
   const double dd = glm::dot(d, d);
   if (!(dd > 0.0) || std::isnan(tmin) || std::isnan(tmax) || !isFinite(vec3(p)) || !isFinite(vec3(d)))
-    return;
+    return false;
   // Only the part inside the outer sphere can hold cells.
   const double tClosest = -glm::dot(p, d) / dd;
   const dvec3 closest = p + tClosest * d;
   const double closestSquared = glm::dot(closest, closest);
   const double outerSquared = RadiusSquared.back();
   if (closestSquared >= outerSquared)
-    return;
+    return false;
   // Half chords as (R - |c|)(R + |c|), not R^2 - |c|^2: accurate to the radius's precision for
   // rays that (nearly) touch a sphere, the same expression sphereChord uses.
   const double closestDistance = std::sqrt(closestSquared);
@@ -74,7 +85,7 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   tmin = std::max(tmin, tClosest - halfChord);
   tmax = std::min(tmax, tClosest + halfChord);
   if (!(tmin < tmax))
-    return;
+    return false;
   const dvec3 start = p + tmin * d, end = p + tmax * d;
 
   // Per-thread scratch lists: no heap allocation per ray once they have grown.
@@ -110,6 +121,7 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
       return polarCount - 2;
     return lo - 1;
   };
+  const int polarStart = polarIndex(start);
   {
     const double pd = glm::dot(p, d), pp = glm::dot(p, p);
     const double slope = d.z * pd - p.z * dd;
@@ -118,7 +130,8 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
     const bool throughOrigin = glm::dot(pCrossD, pCrossD) <= 1e-28 * pp * dd;
     double tHinge = throughOrigin ? tClosest : (slope != 0.0 ? -constant / slope : tmax + 1.0);
     const bool hinge = tHinge > tmin && tHinge < tmax;
-    const int first = polarIndex(start), last = polarIndex(end);
+    const double dzdz = d.z * d.z, pzdz = p.z * d.z, pzpz = p.z * p.z;
+    const int first = polarStart, last = polarIndex(end);
     const int middle = hinge ? polarIndex(p + tHinge * d) : last;
     // The t where the line meets the cone of breakpoint j on the side sign(cos theta_j),
     // within [a, b] (the phase): a root of (dz^2 - c^2 |d|^2) t^2 + 2 (pz dz - c^2 p.d) t
@@ -128,7 +141,7 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
       if (throughOrigin)
         return tClosest; // every cone meets the line at the origin
       const double c = PolarCosine[std::size_t(j)], c2 = c * c;
-      const double qa = d.z * d.z - c2 * dd, qb = 2.0 * (p.z * d.z - c2 * pd), qc = p.z * p.z - c2 * pp;
+      const double qa = dzdz - c2 * dd, qb = 2.0 * (pzdz - c2 * pd), qc = pzpz - c2 * pp;
       double roots[2];
       int count = 0;
       const double scale = std::abs(qa) + std::abs(qb) + std::abs(qc);
@@ -162,12 +175,16 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
       }
       return std::min(b, std::max(a, best));
     };
+    // Crossings written in place: the cones are independent, so their square roots and
+    // divisions overlap.
+    polarList.resize(std::size_t(std::abs(middle - first) + std::abs(last - middle)));
+    Transition* next = polarList.data();
     auto walk = [&](int from, int to, double a, double b)
     {
       for (int j = from; j < to; ++j) // theta rising: leave band j through theta_{j+1}
-        polarList.push_back({ coneCrossing(j + 1, a, b), j + 1 });
+        *next++ = { coneCrossing(j + 1, a, b), j + 1 };
       for (int j = from; j > to; --j) // theta falling: leave band j through theta_j
-        polarList.push_back({ coneCrossing(j, a, b), j - 1 });
+        *next++ = { coneCrossing(j, a, b), j - 1 };
     };
     if (hinge)
     {
@@ -184,10 +201,11 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, azimuthList);
 
   // Merge the three ascending lists, emitting the pieces inside the section.
-  const int first[3] = { radialStart, polarIndex(start), azimuthStart };
+  const int first[3] = { radialStart, polarStart, azimuthStart };
   std::vector<Transition>* lists[3] = { &radial, &polarList, &azimuthList };
   const int counts[3] = { Grid.radialCells(), Grid.polarCells(), Grid.azimuthalCells() };
-  traversal::mergeTransitions(first, lists, counts, tmin, tmax, out);
+  crossed = traversal::sealCrossings(first, lists, counts, tmin, tmax);
+  return true;
 }
 
 double projectCellConstant(const SphericalGrid& grid, const std::vector<double>& values,
@@ -200,6 +218,25 @@ double projectCellConstant(const SphericalGrid& grid, const std::vector<double>&
   for (const CellSegment& s : segments)
     sum += values[grid.cellIndex(s.r, s.theta, s.phi)] * (s.t1 - s.t0);
   return sum * directionLength;
+}
+
+double projectCellConstant(const SphericalTraversal& traversal, const std::vector<double>& values,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax)
+{
+  const SphericalGrid& grid = traversal.grid();
+  if (values.size() != grid.cellCount())
+    throw std::invalid_argument("sightline::projectCellConstant: " + std::to_string(values.size()) +
+      " values for " + std::to_string(grid.cellCount()) + " cells");
+  double sum = 0.0;
+  const double* v = values.data();
+  const std::size_t nr = std::size_t(grid.radialCells()), nrTheta = nr * std::size_t(grid.polarCells());
+  traversal.forEachCell(origin, direction, tmin, tmax,
+    [&](int r, int theta, int phi, double t0, double t1)
+    {
+      sum += v[std::size_t(r) + nr * std::size_t(theta) + nrTheta * std::size_t(phi)] * (t1 - t0);
+      return true;
+    });
+  return sum * glm::length(direction);
 }
 
 vec4 emissionAbsorption(const SphericalGrid& grid, const std::vector<double>& values,

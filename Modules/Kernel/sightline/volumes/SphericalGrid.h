@@ -16,6 +16,7 @@
 #pragma once
 
 #include "sightline/math/Math.h"
+#include "sightline/volumes/CellCrossings.h"
 
 #include <cmath>
 #include <functional>
@@ -55,14 +56,6 @@ struct SphericalGrid
   bool fullCircle() const;
 };
 
-/// A piece of a ray inside one cell: the cell's indices and the ray parameters where it enters
-/// and leaves.
-struct CellSegment
-{
-  int r, theta, phi;
-  double t0, t1;
-};
-
 /// A grid prepared for traversal: the breakpoints as the pseudospherical coordinates the
 /// traversal compares (r^2, the signed square of cos theta, the half-planes' cos and sin).
 class SphericalTraversal
@@ -80,10 +73,24 @@ public:
   void traverse(const dvec3& origin, const dvec3& direction, double tmin, double tmax,
     std::vector<CellSegment>& out) const;
 
+  /// The same cells without a list: `visit(r, theta, phi, t0, t1)` is called for each, in
+  /// order, and returns false to stop (a saturated compositing loop). The crossings live in
+  /// per-thread lists, so `visit` must not traverse on the same thread.
+  template <class Visit>
+  void forEachCell(const dvec3& origin, const dvec3& direction, double tmin, double tmax, Visit&& visit) const
+  {
+    traversal::Crossings c;
+    if (crossings(origin, direction, tmin, tmax, c))
+      traversal::forEachMergedCell(c, visit);
+  }
+
   /// A 2-D polar grid (r, phi) is the grid with polar breakpoints {0, pi} traversed by rays in
   /// the plane z = 0 (theta stays pi / 2).
 
 private:
+  /// The ray's crossings of shells, cones and half-planes; false when it misses the grid.
+  bool crossings(const dvec3& origin, const dvec3& direction, double tmin, double tmax, traversal::Crossings& out) const;
+
   SphericalGrid Grid;
   std::vector<double> RadiusSquared;       ///< r_i^2, increasing
   std::vector<double> SignedCosineSquared; ///< cos(theta_j) |cos(theta_j)|, decreasing
@@ -97,6 +104,10 @@ private:
 /// is |direction| so that lengths are distances.
 double projectCellConstant(const SphericalGrid& grid, const std::vector<double>& values,
   const std::vector<CellSegment>& segments, double directionLength);
+/// The same integral straight from the traversal, for the ray's part in [tmin, tmax] (no list
+/// of segments in between).
+double projectCellConstant(const SphericalTraversal& traversal, const std::vector<double>& values,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax);
 
 /// Line integrals of a field given at the radial breakpoints and interpolated in r (or in r^2)
 /// inside each cell, constant in theta and phi: `nodeValues[i + (Nr + 1) (j + Ntheta k)]` is the

@@ -39,10 +39,21 @@ CylindricalTraversal::CylindricalTraversal(CylindricalGrid grid)
 void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, double tmax,
   std::vector<CellSegment>& out) const
 {
-  using traversal::Transition;
   out.clear();
+  forEachCell(p, d, tmin, tmax,
+    [&](int r, int z, int phi, double t0, double t1)
+    {
+      out.push_back({ r, z, phi, t0, t1 });
+      return true;
+    });
+}
+
+bool CylindricalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, double tmax,
+  traversal::Crossings& crossed) const
+{
+  using traversal::Transition;
   if (!(glm::dot(d, d) > 0.0) || std::isnan(tmin) || std::isnan(tmax) || !isFinite(vec3(p)) || !isFinite(vec3(d)))
-    return;
+    return false;
   // The slab between the first and last heights.
   const double z0 = Grid.height.front(), z1 = Grid.height.back();
   if (d.z != 0.0)
@@ -52,7 +63,7 @@ void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin,
     tmax = std::min(tmax, std::max(a, b));
   }
   else if (p.z < z0 || p.z > z1)
-    return;
+    return false;
   // The outer cylinder; rho^2 = c^2 + dxy (t - tClosest)^2 around the closest approach.
   const double dxy = d.x * d.x + d.y * d.y;
   const double outer = Grid.radius.back();
@@ -62,15 +73,15 @@ void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin,
     tClosest = -(p.x * d.x + p.y * d.y) / dxy;
     closestDistance = std::hypot(p.x + tClosest * d.x, p.y + tClosest * d.y);
     if (closestDistance >= outer)
-      return;
+      return false;
     const double half = std::sqrt((outer - closestDistance) * (outer + closestDistance) / dxy);
     tmin = std::max(tmin, tClosest - half);
     tmax = std::min(tmax, tClosest + half);
   }
   else if (closestDistance >= outer)
-    return;
+    return false;
   if (!(tmin < tmax))
-    return;
+    return false;
   const dvec3 start = p + tmin * d, end = p + tmax * d;
 
   thread_local std::vector<Transition> radial, heights, azimuthList;
@@ -117,12 +128,8 @@ void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin,
   const int first[3] = { radialStart, heightStart, azimuthStart };
   std::vector<Transition>* lists[3] = { &radial, &heights, &azimuthList };
   const int counts[3] = { Grid.radialCells(), nz, Grid.azimuthalCells() };
-  traversal::forEachMergedCell(traversal::sealCrossings(first, lists, counts, tmin, tmax),
-    [&](int r, int z, int phi, double t0, double t1)
-    {
-      out.push_back({ r, z, phi, t0, t1 });
-      return true;
-    });
+  crossed = traversal::sealCrossings(first, lists, counts, tmin, tmax);
+  return true;
 }
 
 double projectCellConstant(const CylindricalGrid& grid, const std::vector<double>& values,

@@ -55,7 +55,21 @@ public:
   void traverse(const dvec3& origin, const dvec3& direction, double tmin, double tmax,
     std::vector<CellSegment>& out) const;
 
+  /// The same cells without a list, as SphericalTraversal::forEachCell: `visit(rho, z, phi, t0,
+  /// t1)` for each, in order, returning false to stop.
+  template <class Visit>
+  void forEachCell(const dvec3& origin, const dvec3& direction, double tmin, double tmax, Visit&& visit) const
+  {
+    traversal::Crossings c;
+    if (crossings(origin, direction, tmin, tmax, c))
+      traversal::forEachMergedCell(c, visit);
+  }
+
 private:
+  /// The ray's crossings of cylinders, planes of constant z and half-planes; false when it
+  /// misses the grid.
+  bool crossings(const dvec3& origin, const dvec3& direction, double tmin, double tmax, traversal::Crossings& out) const;
+
   CylindricalGrid Grid;
   std::vector<double> RadiusSquared;
   std::shared_ptr<const traversal::AzimuthSweep> Azimuth;

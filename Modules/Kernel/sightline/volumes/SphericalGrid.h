@@ -137,34 +137,55 @@ struct TransferSample
   vec3 color{ 0.0f };
   double extinction = 0.0; ///< per unit length
 };
-/// The compositing both use: `sampleOf(segment)` gives a segment's TransferSample; cells with
-/// zero extinction are skipped. `firstVisible` receives the t where the first visible cell is
-/// entered (-1 if none), `visited` is incremented per composited segment. Premultiplied RGBA.
+/// Front-to-back emission-absorption one cell at a time: `add` multiplies the transmittance
+/// by exp(-extinction x length) and adds colour x (1 - that factor); cells with zero extinction
+/// are skipped. `first` is the t where the first visible cell is entered (-1 if none),
+/// `visited` counts the composited cells.
+struct CellCompositor
+{
+  double directionLength = 1.0;
+  double minimumTransmittance = 1e-3;
+  dvec3 color{ 0.0 };
+  double transmittance = 1.0;
+  double first = -1.0;
+  std::size_t visited = 0;
+
+  /// False once the transmittance has fallen below the minimum: nothing behind can show.
+  bool add(const TransferSample& sample, double t0, double t1)
+  {
+    if (!(sample.extinction > 0.0))
+      return true; // fully transparent: nothing to add
+    if (first < 0.0)
+      first = t0;
+    ++visited;
+    const double absorbed = 1.0 - std::exp(-sample.extinction * (t1 - t0) * directionLength);
+    color += transmittance * absorbed * dvec3(sample.color);
+    transmittance *= 1.0 - absorbed;
+    return !(transmittance < minimumTransmittance);
+  }
+  /// Premultiplied RGB and opacity.
+  vec4 rgba() const { return vec4(vec3(color), float(1.0 - transmittance)); }
+};
+
+/// The same compositing over a list of segments: `sampleOf(segment)` gives a segment's
+/// TransferSample. `firstVisible` receives CellCompositor::first, `visited` is incremented per
+/// composited segment. Premultiplied RGBA.
 template <class SampleOf>
 vec4 compositeCells(const SampleOf& sampleOf, const std::vector<CellSegment>& segments,
   double directionLength, double minimumTransmittance, double* firstVisible = nullptr,
   std::size_t* visited = nullptr)
 {
-  dvec3 color(0.0);
-  double transmittance = 1.0;
-  if (firstVisible)
-    *firstVisible = -1.0;
+  CellCompositor compositor;
+  compositor.directionLength = directionLength;
+  compositor.minimumTransmittance = minimumTransmittance;
   for (const CellSegment& s : segments)
-  {
-    const TransferSample& sample = sampleOf(s);
-    if (!(sample.extinction > 0.0))
-      continue; // fully transparent: nothing to add
-    if (firstVisible && *firstVisible < 0.0)
-      *firstVisible = s.t0;
-    if (visited)
-      ++*visited;
-    const double absorbed = 1.0 - std::exp(-sample.extinction * (s.t1 - s.t0) * directionLength);
-    color += transmittance * absorbed * dvec3(sample.color);
-    transmittance *= 1.0 - absorbed;
-    if (transmittance < minimumTransmittance)
+    if (!compositor.add(sampleOf(s), s.t0, s.t1))
       break;
-  }
-  return vec4(vec3(color), float(1.0 - transmittance));
+  if (firstVisible)
+    *firstVisible = compositor.first;
+  if (visited)
+    *visited += compositor.visited;
+  return compositor.rgba();
 }
 
 vec4 emissionAbsorption(const SphericalGrid& grid, const std::vector<double>& values,

@@ -87,8 +87,8 @@ double visibleRadiusOf(const Cells& grid, const std::vector<TransferSample>& cel
 }
 
 /// Traces every pixel: rays clipped to the visible radius (nothing traced when it is < 0) and
-/// to the depth limit, traversed, and composited by `composite(origin, direction, segments,
-/// &first, &count)` into premultiplied RGBA.
+/// to the depth limit, then traversed and composited by `composite(origin, direction, enter,
+/// leave, &first, &count)` into premultiplied RGBA.
 template <class Cells, class Composite>
 SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, const Composite& composite,
   const Camera& camera, Framebuffer& framebuffer, const SphericalVolumeOptions& options, const char* who)
@@ -120,7 +120,6 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
     tbb::parallel_for(tbb::blocked_range<int>(firstRow, endRow),
       [&](const tbb::blocked_range<int>& rows)
       {
-        std::vector<CellSegment> segments;
         std::size_t count = 0;
         for (int y = rows.begin(); y < rows.end(); ++y)
           for (int x = 0; x < camera.width(); ++x)
@@ -145,9 +144,8 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
             double enter, leave;
             if (!grid.clip(o, d, visibleRadius, tmin, tmax, enter, leave))
               continue;
-            grid.traversal.traverse(o, d, enter, leave, segments);
             double first = -1.0;
-            const vec4 rgba = composite(o, d, segments, &first, &count);
+            const vec4 rgba = composite(o, d, enter, leave, &first, &count);
             if (!(rgba.a > 0.0f))
               continue;
             framebuffer.Color[i] = vec4(vec3(rgba) / rgba.a, rgba.a);
@@ -228,10 +226,18 @@ SphericalVolumeStatistics renderCellData(const Cells& grid, const std::vector<Tr
     throw std::invalid_argument(std::string("sightline::") + who + ": " + std::to_string(cells.size()) +
       " cell samples for " + std::to_string(grid.cellCount()) + " cells");
   return renderCells(grid, visibleRadiusOf(grid, cells),
-    [&](const dvec3&, const dvec3&, const std::vector<CellSegment>& segments, double* first, std::size_t* count)
+    [&](const dvec3& o, const dvec3& d, double enter, double leave, double* first, std::size_t* count)
     {
-      return compositeCells([&](const CellSegment& c) -> const TransferSample& { return cells[grid.index(c)]; },
-        segments, 1.0, options.minimumTransmittance, first, count);
+      // Cells composited as the traversal reaches them: no list of segments, and the merge
+      // stops where the ray saturates.
+      CellCompositor compositor;
+      compositor.minimumTransmittance = options.minimumTransmittance;
+      grid.traversal.forEachCell(o, d, enter, leave,
+        [&](int i0, int i1, int i2, double t0, double t1)
+        { return compositor.add(cells[grid.index(CellSegment{ i0, i1, i2, t0, t1 })], t0, t1); });
+      *first = compositor.first;
+      *count += compositor.visited;
+      return compositor.rgba();
     },
     camera, framebuffer, options, who);
 }
@@ -261,14 +267,15 @@ SphericalVolumeStatistics renderPointData(const Cells& grid, const ValueAt& valu
   if (transfer.entries.empty())
     throw std::invalid_argument(std::string("sightline::") + who + ": the transfer table is empty");
   return renderCells(grid, grid.radii().back(),
-    [&](const dvec3& o, const dvec3& d, const std::vector<CellSegment>& segments, double* first, std::size_t* count)
+    [&](const dvec3& o, const dvec3& d, double enter, double leave, double* first, std::size_t* count)
     {
       dvec3 color(0.0);
       double transmittance = 1.0;
       *first = -1.0;
       const double dl = glm::length(d);
-      for (const CellSegment& s : segments)
+      grid.traversal.forEachCell(o, d, enter, leave, [&](int i0, int i1, int i2, double t0, double t1)
       {
+        const CellSegment s{ i0, i1, i2, t0, t1 };
         const double length = (s.t1 - s.t0) * dl;
         const int samples = std::max(1, int(std::ceil(length / sampleDistance)));
         const double step = (s.t1 - s.t0) / samples;
@@ -288,9 +295,8 @@ SphericalVolumeStatistics renderPointData(const Cells& grid, const ValueAt& valu
           color += transmittance * absorbed * dvec3(sample.color);
           transmittance *= 1.0 - absorbed;
         }
-        if (transmittance < options.minimumTransmittance)
-          break;
-      }
+        return !(transmittance < options.minimumTransmittance);
+      });
       return vec4(vec3(color), float(1.0 - transmittance));
     },
     camera, framebuffer, options, who);

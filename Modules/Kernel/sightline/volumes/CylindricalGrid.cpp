@@ -84,18 +84,21 @@ bool CylindricalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin
     return false;
   const dvec3 start = p + tmin * d, end = p + tmax * d;
 
-  thread_local std::vector<Transition> radial, heights, azimuthList;
-  radial.clear();
-  heights.clear();
-  azimuthList.clear();
+  traversal::CrossingScratch& scratch = traversal::threadCrossingScratch();
+  traversal::TransitionList& radial = scratch.lists[0];
+  traversal::TransitionList& heights = scratch.lists[1];
 
   int radialStart;
   if (dxy > 0.0)
     radialStart = traversal::radialTransitions(Grid.radius, RadiusSquared, tClosest, closestDistance, dxy,
-      tmin, tmax, start.x * start.x + start.y * start.y, end.x * end.x + end.y * end.y, radial);
+      tmin, tmax, start.x * start.x + start.y * start.y, end.x * end.x + end.y * end.y, radial,
+      scratch.halfChords);
   else // parallel to the axis: rho is constant
+  {
+    radial.reset(1);
     radialStart = int(std::upper_bound(RadiusSquared.begin(), RadiusSquared.end(),
                         closestDistance * closestDistance) - RadiusSquared.begin()) - 1;
+  }
 
   // Height: linear in t. A start on a plane belongs to the cell the ray moves into.
   const int nz = Grid.heightCells();
@@ -105,13 +108,14 @@ bool CylindricalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin
   else
     heightStart = int(std::lower_bound(Grid.height.begin(), Grid.height.end(), start.z) - Grid.height.begin()) - 1;
   heightStart = std::clamp(heightStart, 0, nz - 1);
+  heights.reset(std::size_t(nz) + 1);
   if (d.z > 0.0)
     for (int k = heightStart + 1; k < nz; ++k)
     {
       const double t = (Grid.height[std::size_t(k)] - p.z) / d.z;
       if (t >= tmax)
         break;
-      heights.push_back({ t, k });
+      heights.push({ t, k });
     }
   else if (d.z < 0.0)
     for (int k = heightStart; k >= 1; --k)
@@ -119,16 +123,15 @@ bool CylindricalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin
       const double t = (Grid.height[std::size_t(k)] - p.z) / d.z;
       if (t >= tmax)
         break;
-      heights.push_back({ t, k - 1 });
+      heights.push({ t, k - 1 });
     }
   traversal::clampAscending(heights, tmin, tmax);
 
-  const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, azimuthList);
+  const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, scratch.lists[2]);
 
   const int first[3] = { radialStart, heightStart, azimuthStart };
-  std::vector<Transition>* lists[3] = { &radial, &heights, &azimuthList };
   const int counts[3] = { Grid.radialCells(), nz, Grid.azimuthalCells() };
-  crossed = traversal::sealCrossings(first, lists, counts, tmin, tmax);
+  crossed = traversal::sealCrossings(first, scratch.lists, counts, tmin, tmax);
   return true;
 }
 

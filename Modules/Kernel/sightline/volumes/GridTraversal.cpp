@@ -31,7 +31,13 @@ bool spansFullCircle(const std::vector<double>& azimuth)
   return std::abs((azimuth.back() - azimuth.front()) - kTwoPi) <= 1e-12 * kTwoPi;
 }
 
-void clampAscending(std::vector<Transition>& list, double tmin, double tmax)
+CrossingScratch& threadCrossingScratch()
+{
+  thread_local CrossingScratch scratch;
+  return scratch;
+}
+
+void clampAscending(TransitionList& list, double tmin, double tmax)
 {
   double previous = tmin;
   for (Transition& x : list)
@@ -43,8 +49,9 @@ void clampAscending(std::vector<Transition>& list, double tmin, double tmax)
 
 int radialTransitions(const std::vector<double>& radius, const std::vector<double>& radiusSquared,
   double tClosest, double closestDistance, double dd, double tmin, double tmax, double startSquared,
-  double endSquared, std::vector<Transition>& out)
+  double endSquared, TransitionList& out, ScratchList<double>& halfChords)
 {
+  out.reset(2 * radius.size() + 1);
   auto index = [&](double r2)
   { return int(std::upper_bound(radiusSquared.begin(), radiusSquared.end(), r2) - radiusSquared.begin()) - 1; };
   const int first = index(startSquared);
@@ -55,21 +62,17 @@ int radialTransitions(const std::vector<double>& radius, const std::vector<doubl
   // The ray falls through r_first .. r_{lowest+1} and rises through r_{lowest+1} .. r_last:
   // each sphere's half chord once, for both crossings, in a loop without dependencies.
   const int top = std::max(first, last);
-  thread_local std::vector<double> halfChords;
   if (top > lowest)
   {
-    halfChords.resize(std::size_t(top - lowest));
+    halfChords.reset(std::size_t(top - lowest));
     double* half = halfChords.data() - (lowest + 1); // half[i] for radius i
     const double* r = radius.data();
     for (int i = lowest + 1; i <= top; ++i)
       half[i] = std::sqrt(std::max(0.0, (r[i] - closestDistance) * (r[i] + closestDistance)) / dd);
-    const std::size_t begin = out.size();
-    out.resize(begin + std::size_t(std::max(0, first - lowest) + std::max(0, last - lowest)));
-    Transition* next = out.data() + begin;
     for (int i = first; i > lowest; --i) // falling: leave shell i through r_i
-      *next++ = { tClosest - half[i], i - 1 };
+      out.push({ tClosest - half[i], i - 1 });
     for (int i = lowest + 1; i <= last; ++i) // rising: leave shell i - 1 through r_i
-      *next++ = { tClosest + half[i], i };
+      out.push({ tClosest + half[i], i });
   }
   clampAscending(out, tmin, tmax);
   return first;
@@ -84,9 +87,10 @@ AzimuthSweep::AzimuthSweep(const std::vector<double>& azimuth)
 }
 
 int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, double tmax,
-  const dvec3& start, const dvec3& end, std::vector<Transition>& out) const
+  const dvec3& start, const dvec3& end, TransitionList& out) const
 {
   const int azimuthCount = int(HalfPlanes.size());
+  out.reset(3 * std::size_t(azimuthCount) + 1); // the walk covers at most three laps
   const double phi0 = HalfPlanes.front().z;
   auto unwrap = [&](const dvec3& x)
   {
@@ -179,13 +183,13 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
         for (int v = lo; v < 3 * perLap && angleOf(v) <= phiEnd; ++v)
         {
           const int k = v - lapOf(v) * perLap;
-          out.push_back({ crossAt(k), k == azimuthCount - 1 ? -1 : k });
+          out.push({ crossAt(k), k == azimuthCount - 1 ? -1 : k });
         }
       else
         for (int v = lo - 1; v >= 0 && angleOf(v) >= phiEnd; --v)
         {
           const int k = v - lapOf(v) * perLap;
-          out.push_back({ crossAt(k), k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1 });
+          out.push({ crossAt(k), k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1 });
         }
       clampAscending(out, tmin, tmax);
     }
@@ -193,14 +197,13 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
   return azimuthStart;
 }
 
-Crossings sealCrossings(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
-  double tmin, double tmax)
+Crossings sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin, double tmax)
 {
   Crossings c;
   for (int list = 0; list < 3; ++list)
   {
-    lists[list]->push_back({ std::numeric_limits<double>::infinity(), 0 });
-    c.lists[list] = lists[list]->data();
+    lists[list].push({ std::numeric_limits<double>::infinity(), 0 });
+    c.lists[list] = lists[list].data();
     c.first[list] = first[list];
     c.counts[list] = counts[list];
   }

@@ -9,6 +9,7 @@
 #include "sightline/math/Math.h"
 #include "sightline/volumes/SphericalGrid.h"
 
+#include <memory>
 #include <vector>
 
 namespace sightline
@@ -23,17 +24,54 @@ void checkBreakpoints(const std::vector<double>& v, const char* owner, const cha
 /// Whether azimuth breakpoints span the full circle (2 pi to 1e-12).
 bool spansFullCircle(const std::vector<double>& azimuth);
 
+/// A per-thread buffer that grows to a grid's bound once: appending checks no capacity and
+/// growing never zero-fills (a ray of a small grid costs less than the vector bookkeeping).
+template <class T>
+class ScratchList
+{
+public:
+  /// Empties the list and makes room for `capacity` elements.
+  void reset(std::size_t capacity)
+  {
+    if (capacity > Capacity)
+    {
+      Data.reset(new T[capacity]);
+      Capacity = capacity;
+    }
+    Size = 0;
+  }
+  void push(const T& x) { Data[Size++] = x; }
+  T* data() { return Data.get(); }
+  T* begin() { return Data.get(); }
+  T* end() { return Data.get() + Size; }
+  std::size_t size() const { return Size; }
+
+private:
+  std::unique_ptr<T[]> Data;
+  std::size_t Capacity = 0, Size = 0;
+};
+using TransitionList = ScratchList<Transition>;
+
+/// A thread's lists for one ray's crossings (one thread-local lookup per ray).
+struct CrossingScratch
+{
+  TransitionList lists[3];
+  ScratchList<double> halfChords;
+};
+CrossingScratch& threadCrossingScratch();
+
 /// Keeps the list's t ascending and inside [tmin, tmax] (rounding near hinges may swap
 /// neighbours by an ulp).
-void clampAscending(std::vector<Transition>& list, double tmin, double tmax);
+void clampAscending(TransitionList& list, double tmin, double tmax);
 
 /// Shells between radii (from the origin or from the z axis). The ray's squared distance is
 /// closestDistance^2 + dd (t - tClosest)^2; crossings use (R - c)(R + c) for the half chord.
-/// Fills the transitions inside [tmin, tmax] and returns the index at tmin (-1 below the first
-/// radius, n - 1 at or beyond the last).
+/// Fills the transitions inside [tmin, tmax] (`out` reset to room for 2 n + 1, the sentinel
+/// included) and returns the index at tmin (-1 below the first radius, n - 1 at or beyond the
+/// last).
 int radialTransitions(const std::vector<double>& radius, const std::vector<double>& radiusSquared,
   double tClosest, double closestDistance, double dd, double tmin, double tmax, double startSquared,
-  double endSquared, std::vector<Transition>& out);
+  double endSquared, TransitionList& out, ScratchList<double>& halfChords);
 
 /// Wedges between half-planes through the z axis at the azimuth breakpoints.
 class AzimuthSweep
@@ -41,10 +79,11 @@ class AzimuthSweep
 public:
   explicit AzimuthSweep(const std::vector<double>& azimuth);
   bool fullCircle() const { return FullCircle; }
-  /// Fills the transitions of the ray (p + t d, t in [tmin, tmax], from `start` to `end`) and
-  /// returns the wedge index at tmin (-1 outside a section's wedges).
+  /// Fills the transitions of the ray (p + t d, t in [tmin, tmax], from `start` to `end`;
+  /// `out` reset to room for them and the sentinel) and returns the wedge index at tmin (-1
+  /// outside a section's wedges).
   int transitions(const dvec3& p, const dvec3& d, double tmin, double tmax, const dvec3& start,
-    const dvec3& end, std::vector<Transition>& out) const;
+    const dvec3& end, TransitionList& out) const;
 
 private:
   std::vector<double> Azimuth;
@@ -54,7 +93,6 @@ private:
 
 /// The three ascending transition lists ready to merge (CellCrossings.h): appends the sentinel
 /// to each.
-Crossings sealCrossings(const int first[3], std::vector<Transition>* lists[3], const int counts[3],
-  double tmin, double tmax);
+Crossings sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin, double tmax);
 } // namespace traversal
 } // namespace sightline

@@ -89,13 +89,12 @@ bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, 
   const dvec3 start = p + tmin * d, end = p + tmax * d;
 
   // Per-thread scratch lists: no heap allocation per ray once they have grown.
-  thread_local std::vector<Transition> radial, polarList, azimuthList;
-  radial.clear();
-  polarList.clear();
-  azimuthList.clear();
+  traversal::CrossingScratch& scratch = traversal::threadCrossingScratch();
+  traversal::TransitionList& polarList = scratch.lists[1];
   // Radius: r^2 falls until tClosest and rises after. Index i is the shell [r_i, r_{i+1}).
   const int radialStart = traversal::radialTransitions(Grid.radius, RadiusSquared, tClosest,
-    closestDistance, dd, tmin, tmax, glm::dot(start, start), glm::dot(end, end), radial);
+    closestDistance, dd, tmin, tmax, glm::dot(start, start), glm::dot(end, end), scratch.lists[0],
+    scratch.halfChords);
 
   // Polar angle: s = cos theta |cos theta| along the line is ditone; its hinge is where
   // (dz |p|^2 - pz p.d) + t (dz p.d - pz |d|^2) vanishes. Index j is [theta_j, theta_{j+1}),
@@ -177,14 +176,13 @@ bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, 
     };
     // Crossings written in place: the cones are independent, so their square roots and
     // divisions overlap.
-    polarList.resize(std::size_t(std::abs(middle - first) + std::abs(last - middle)));
-    Transition* next = polarList.data();
+    polarList.reset(2 * std::size_t(polarCount) + 1);
     auto walk = [&](int from, int to, double a, double b)
     {
       for (int j = from; j < to; ++j) // theta rising: leave band j through theta_{j+1}
-        *next++ = { coneCrossing(j + 1, a, b), j + 1 };
+        polarList.push({ coneCrossing(j + 1, a, b), j + 1 });
       for (int j = from; j > to; --j) // theta falling: leave band j through theta_j
-        *next++ = { coneCrossing(j, a, b), j - 1 };
+        polarList.push({ coneCrossing(j, a, b), j - 1 });
     };
     if (hinge)
     {
@@ -198,13 +196,12 @@ bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, 
 
   // Azimuth: monotone along the line, rising when (p x d).z > 0; a line through the z axis
   // jumps by pi there. Index k is [phi_k, phi_{k+1}); -1 outside a wedge.
-  const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, azimuthList);
+  const int azimuthStart = Azimuth->transitions(p, d, tmin, tmax, start, end, scratch.lists[2]);
 
   // Merge the three ascending lists, emitting the pieces inside the section.
   const int first[3] = { radialStart, polarStart, azimuthStart };
-  std::vector<Transition>* lists[3] = { &radial, &polarList, &azimuthList };
   const int counts[3] = { Grid.radialCells(), Grid.polarCells(), Grid.azimuthalCells() };
-  crossed = traversal::sealCrossings(first, lists, counts, tmin, tmax);
+  crossed = traversal::sealCrossings(first, scratch.lists, counts, tmin, tmax);
   return true;
 }
 

@@ -31,7 +31,9 @@
 #include "sightline/volumes/SphericalGrid.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <cmath>
@@ -90,18 +92,21 @@ struct RaySet
   }
 };
 
-/// Integrates every ray with `integrate(origin, direction)` into `out` (row-major), in parallel.
+/// Integrates every ray with `integrate(origin, direction)` into `out` (row-major), in parallel,
+/// in tiles of 16 x 16 rays as a renderer traces them: neighbouring rays read neighbouring cells
+/// while they are still cached.
 void integrateAll(const RaySet& rays, std::vector<double>& out,
   const std::function<double(const dvec3&, const dvec3&)>& integrate)
 {
   out.resize(std::size_t(rays.width) * rays.height);
-  tbb::parallel_for(tbb::blocked_range<int>(0, rays.height),
-    [&](const tbb::blocked_range<int>& rows)
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, rays.height, 16, 0, rays.width, 16),
+    [&](const tbb::blocked_range2d<int>& tile)
     {
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < rays.width; ++x)
+      for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
+        for (int x = tile.cols().begin(); x < tile.cols().end(); ++x)
           out[std::size_t(y) * rays.width + x] = integrate(rays.origin(x, y), dvec3(1.0, 0.0, 0.0));
-    });
+    },
+    tbb::simple_partitioner());
 }
 
 /// An N^3 image over [-1, 1]^3 and an exact voxel traversal of it (Amanatides and Woo 1987):

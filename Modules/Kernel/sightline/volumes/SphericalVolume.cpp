@@ -4,9 +4,10 @@
 #include "sightline/volumes/GridTraversal.h"
 #include "sightline/volumes/SphericalFields.h"
 
-#include <tbb/blocked_range.h>
+#include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <chrono>
@@ -117,12 +118,14 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
   {
     const int firstRow = int(std::int64_t(camera.height()) * band / bands);
     const int endRow = int(std::int64_t(camera.height()) * (band + 1) / bands);
-    tbb::parallel_for(tbb::blocked_range<int>(firstRow, endRow),
-      [&](const tbb::blocked_range<int>& rows)
+    // Tiles of 16 x 16 pixels: neighbouring rays read neighbouring cells while they are still
+    // cached (a row of rays sweeps a whole slice of the grid between two rows).
+    tbb::parallel_for(tbb::blocked_range2d<int>(firstRow, endRow, 16, 0, camera.width(), 16),
+      [&](const tbb::blocked_range2d<int>& tile)
       {
         std::size_t count = 0;
-        for (int y = rows.begin(); y < rows.end(); ++y)
-          for (int x = 0; x < camera.width(); ++x)
+        for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
+          for (int x = tile.cols().begin(); x < tile.cols().end(); ++x)
           {
             // The exact pixel ray: a float one is off by 2^-24 of its origin's distance, which
             // rays tangent to a shell turn into relative errors of 1e-3 in optical depth.
@@ -154,7 +157,8 @@ SphericalVolumeStatistics renderCells(const Cells& grid, double visibleRadius, c
             framebuffer.Distance[i] = float(first);
           }
         visited.local() += count;
-      });
+      },
+      tbb::simple_partitioner());
     if (options.progress && !options.progress(double(band + 1) / bands))
       break;
   }

@@ -41,9 +41,19 @@ struct Options
   /// Where scenes that read real data find or generate it; empty: a folder in the output
   /// directory (sh-glyph-window: the tiled NIfTI of scripts/make_sh_data.py and DIPY's spheres).
   std::string dataDirectory;
-  /// tensor-glyphs: run only the methods whose name contains one of these (the reference and
-  /// the exact method always run); empty: all.
+  /// tensor-glyphs and tubes: run only the methods whose name contains one of these (the
+  /// reference and the method the ratios divide by always run); empty: all.
   std::vector<std::string> methodFilter;
+  /// Whether --methods leaves `method` in.
+  bool wantsMethod(const std::string& method) const
+  {
+    if (methodFilter.empty())
+      return true;
+    for (const std::string& part : methodFilter)
+      if (method.find(part) != std::string::npos)
+        return true;
+    return false;
+  }
   bool plot = true;
   std::string python;
   std::string plotScript;

@@ -169,7 +169,7 @@ struct Method
   std::string what;
 };
 
-std::vector<Method> methods(const std::vector<std::string>& filter)
+std::vector<Method> methods(const Options& options)
 {
   std::vector<Method> list;
   SHGlyphOptions reference;
@@ -212,13 +212,9 @@ std::vector<Method> methods(const std::vector<std::string>& filter)
     "reduced affine arithmetic to 1e-3 radii" });
   list.push_back({ "raa-1e-4", subdivision(sightline::EnclosureArithmetic::ReducedAffine, 1e-4),
     "reduced affine arithmetic to 1e-4 radii" });
-  if (!filter.empty()) // the first two (reference and exact) always run
-    list.erase(std::remove_if(list.begin() + 2, list.end(), [&](const Method& m)
-      {
-        return std::none_of(filter.begin(), filter.end(),
-          [&](const std::string& part) { return m.name.find(part) != std::string::npos; });
-      }),
-      list.end());
+  // The first two (reference and exact) always run.
+  list.erase(std::remove_if(list.begin() + 2, list.end(), [&](const Method& m) { return !options.wantsMethod(m.name); }),
+    list.end());
   return list;
 }
 
@@ -254,7 +250,7 @@ std::vector<MicroRow> measureMicro(const Dataset& data, const Options& options)
   }
   // The exact method, the paper's recommended and finest marching and both subdivisions.
   const std::vector<std::string> measured = { "sightline", "march-0.2-lin", "march-0.01-lin", "ia-1e-3", "raa-1e-3" };
-  for (const Method& method : methods(options.methodFilter))
+  for (const Method& method : methods(options))
   {
     if (std::find(measured.begin(), measured.end(), method.name) == measured.end())
       continue;
@@ -282,7 +278,7 @@ std::vector<MethodResult> runDataset(const Options& options, const Dataset& data
   const std::string prefix = data.name + ":";
   const View view = makeGlyphView(data.centers, kGlyphRadius, options.width, options.height);
   std::vector<std::unique_ptr<PreparedMethod>> prepared;
-  for (const Method& method : methods(options.methodFilter))
+  for (const Method& method : methods(options))
   {
     logProgress("tensor-glyphs: " + prefix + method.name);
     std::shared_ptr<SHGlyphSet> glyphs;

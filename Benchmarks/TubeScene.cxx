@@ -339,6 +339,12 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
     for (auto transforms : { TubeLayout::Transforms::OnTheFly, TubeLayout::Transforms::Precomputed })
     {
       const TubeLayout layout{ primitives, transforms };
+      const bool isDefault = primitives == defaultLayout.primitives && transforms == defaultLayout.transforms;
+      std::string label = layout.name();
+      std::replace(label.begin(), label.end(), ' ', '-');
+      label.erase(std::remove(label.begin(), label.end(), ','), label.end());
+      if (!isDefault && !options.wantsMethod("sightline:" + label))
+        continue; // the default layout always runs: the ratios divide by it
       logProgress(name + ": sightline " + layout.name());
       std::shared_ptr<BuiltScene> built;
       const double seconds = timeOnce([&]
@@ -346,9 +352,6 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
           built = std::make_shared<BuiltScene>(withMaterial(std::make_shared<sightline::TubeSet>(
             tree.points, tree.radii, tree.predecessors, tree.colors, layout)));
         });
-      std::string label = layout.name();
-      std::replace(label.begin(), label.end(), ' ', '-');
-      label.erase(std::remove(label.begin(), label.end(), ','), label.end());
       methods.push_back(prepareMethod(view, "sightline:" + label, built, nullptr, opaque, seconds, links));
       std::ostringstream notes;
       notes << built->scene->geometry(0).size() << " primitives; geometry "
@@ -356,7 +359,7 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
             << fixed(double(built->scene->bvhBytes()) / links, 1) << " B/link (colours not counted: "
             << "4 B/point)";
       methods.back()->result.notes = notes.str();
-      if (primitives == defaultLayout.primitives && transforms == defaultLayout.transforms)
+      if (isDefault)
         defaultBuildSeconds = seconds;
     }
   {
@@ -366,6 +369,8 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
     for (float opacity : { 1.0f, 0.4f })
     {
       const std::string method = opacity == 1.0f ? "sightline-csg" : "sightline-translucent-0.4";
+      if (!options.wantsMethod(method))
+        continue;
       logProgress(name + ": " + method);
       auto tubes = std::make_shared<BuiltScene>(withMaterial(std::make_shared<sightline::TubeSet>(
         tree.points, tree.radii, tree.predecessors, tree.colors, defaultLayout), opacity));
@@ -383,6 +388,8 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
   for (int sides : { 6, 12, 24 })
   {
     const std::string method = "vtk-tube-filter-" + std::to_string(sides);
+    if (!options.wantsMethod(method))
+      continue;
     // Triangles: 2 per side per segment plus the caps.
     const long long triangles = 2LL * sides * links;
     if (triangles > options.maxTriangles)

@@ -305,9 +305,7 @@ std::vector<MethodResult> runSphericalScene(
         integrateAll(rays, values,
           [&](const dvec3& o, const dvec3& d)
           {
-            thread_local std::vector<sightline::CellSegment> segments;
-            traversal.traverse(o, d, 0.0, 4.0, segments);
-            return sightline::projectLinearInRadiusSquared(grid, nodes, segments, o, d);
+            return sightline::projectLinearInRadiusSquared(traversal, nodes, o, d, 0.0, 4.0);
           });
       });
     finish(linear, values);

@@ -148,6 +148,10 @@ TEST(SphericalSamplers, ExactForTheirFieldsOnEveryRayClass)
       const double ourStep = projectCellConstant(grid, chiCells, segments, dl);
       const double ourSquare = projectLinearInRadiusSquared(grid, r2Nodes, segments, o, d);
       const double ourLinear = projectLinearInRadius(grid, rNodes, segments, o, d);
+      // Straight from the traversal: the same cells in the same order, so the same bits.
+      EXPECT_EQ(projectCellConstant(traversal, chiCells, o, d, t0, t1), ourStep) << what;
+      EXPECT_EQ(projectLinearInRadiusSquared(traversal, r2Nodes, o, d, t0, t1), ourSquare) << what;
+      EXPECT_EQ(projectLinearInRadius(traversal, rNodes, o, d, t0, t1), ourLinear) << what;
       const double exactStep = chi.rayIntegral(o, d, t0, t1);
       const double exactSquare = r2.rayIntegral(o, d, t0, t1);
       const double exactLinear = referenceIntegralOfRadius(o, d, t0, t1);
@@ -208,6 +212,13 @@ TEST(SphericalSamplers, BadNodeCounts)
   EXPECT_THROW(projectLinearInRadius(grid, std::vector<double>(3), segments, dvec3(0.0), dvec3(1.0, 0.0, 0.0)),
     std::invalid_argument);
   EXPECT_THROW(projectLinearInRadiusSquared(grid, std::vector<double>(3), segments, dvec3(0.0), dvec3(1.0, 0.0, 0.0)),
+    std::invalid_argument);
+  const SphericalTraversal traversal(grid);
+  EXPECT_THROW(projectLinearInRadius(traversal, std::vector<double>(3), dvec3(-2.0, 0.0, 0.0), dvec3(1.0, 0.0, 0.0), 0.0, 4.0),
+    std::invalid_argument);
+  EXPECT_THROW(projectLinearInRadiusSquared(traversal, std::vector<double>(3), dvec3(-2.0, 0.0, 0.0), dvec3(1.0, 0.0, 0.0), 0.0, 4.0),
+    std::invalid_argument);
+  EXPECT_THROW(projectCellConstant(traversal, std::vector<double>(3), dvec3(-2.0, 0.0, 0.0), dvec3(1.0, 0.0, 0.0), 0.0, 4.0),
     std::invalid_argument);
 }
 

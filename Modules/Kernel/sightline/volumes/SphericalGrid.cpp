@@ -292,46 +292,83 @@ namespace
 {
 // Line integral of node values interpolated linearly in q(r) inside each cell (q = r or r^2):
 // f = f0 + slope (q - q0), integrated with the exact integral of q along the segment, given in
-// the closest-approach parameter u by `integralOfQ(u0, u1)`.
-template <class Q, class IntegralOfQ>
+// the closest-approach parameter u by `integralOfQ(u0, u1)`. `forEachSegment(add)` calls
+// add(r, theta, phi, t0, t1) for each cell of the ray: from a list or from the traversal.
+template <class Q, class IntegralOfQ, class ForEachSegment>
 double projectLinearIn(const SphericalGrid& grid, const std::vector<double>& nodeValues,
-  const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction,
-  const char* who, const Q& q, const IntegralOfQ& integralOfQ)
+  const ForEachSegment& forEachSegment, const dvec3& origin, const dvec3& direction, const char* who,
+  const Q& q, const IntegralOfQ& integralOfQ)
 {
   checkNodeCount(grid, nodeValues, who);
   const ClosestApproach c(origin, direction);
-  const std::size_t nodes = grid.radius.size();
+  const std::size_t nodes = grid.radius.size(), polarCells = std::size_t(grid.polarCells());
+  const double* values = nodeValues.data();
+  const double* radius = grid.radius.data();
   double sum = 0.0;
-  for (const CellSegment& s : segments)
-  {
-    const std::size_t column = nodes * (std::size_t(s.theta) + std::size_t(grid.polarCells()) * std::size_t(s.phi));
-    const double f0 = nodeValues[column + s.r], f1 = nodeValues[column + s.r + 1];
-    const double q0 = q(grid.radius[s.r]), q1 = q(grid.radius[s.r + 1]);
-    const double slope = (f1 - f0) / (q1 - q0);
-    const double u0 = s.t0 - c.t, u1 = s.t1 - c.t;
-    sum += (f0 - slope * q0) * (u1 - u0) + slope * integralOfQ(c, u0, u1);
-  }
+  forEachSegment(
+    [&](int r, int theta, int phi, double t0, double t1)
+    {
+      const std::size_t column = nodes * (std::size_t(theta) + polarCells * std::size_t(phi));
+      const double f0 = values[column + r], f1 = values[column + r + 1];
+      const double q0 = q(radius[r]), q1 = q(radius[r + 1]);
+      const double slope = (f1 - f0) / (q1 - q0);
+      const double u0 = t0 - c.t, u1 = t1 - c.t;
+      sum += (f0 - slope * q0) * (u1 - u0) + slope * integralOfQ(c, u0, u1);
+      return true;
+    });
   return sum * std::sqrt(c.a);
 }
+
+// The two ways to walk a ray's cells: a list of segments, or the traversal itself.
+auto segmentsOf(const std::vector<CellSegment>& segments)
+{
+  return [&segments](const auto& add)
+  {
+    for (const CellSegment& s : segments)
+      add(s.r, s.theta, s.phi, s.t0, s.t1);
+  };
+}
+auto traversalOf(const SphericalTraversal& traversal, const dvec3& origin, const dvec3& direction, double tmin, double tmax)
+{
+  return [&traversal, origin, direction, tmin, tmax](const auto& add)
+  { traversal.forEachCell(origin, direction, tmin, tmax, add); };
+}
+
+const auto kRadius = [](double r) { return r; };
+const auto kIntegralOfRadius = [](const ClosestApproach& c, double u0, double u1)
+{ return radiusAntiderivative(u1, c.a, c.p2) - radiusAntiderivative(u0, c.a, c.p2); };
+const auto kRadiusSquared = [](double r) { return r * r; };
+// r^2 = p^2 + a u^2 integrates to p^2 (u1 - u0) + a (u1^3 - u0^3) / 3.
+const auto kIntegralOfRadiusSquared = [](const ClosestApproach& c, double u0, double u1)
+{ return c.p2 * (u1 - u0) + c.a * (u1 * u1 * u1 - u0 * u0 * u0) / 3.0; };
 } // namespace
 
 double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double>& nodeValues,
   const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
 {
-  return projectLinearIn(grid, nodeValues, segments, origin, direction, "projectLinearInRadius",
-    [](double r) { return r; },
-    [](const ClosestApproach& c, double u0, double u1)
-    { return radiusAntiderivative(u1, c.a, c.p2) - radiusAntiderivative(u0, c.a, c.p2); });
+  return projectLinearIn(grid, nodeValues, segmentsOf(segments), origin, direction, "projectLinearInRadius",
+    kRadius, kIntegralOfRadius);
 }
 
 double projectLinearInRadiusSquared(const SphericalGrid& grid, const std::vector<double>& nodeValues,
   const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)
 {
-  // r^2 = p^2 + a u^2 integrates to p^2 (u1 - u0) + a (u1^3 - u0^3) / 3.
-  return projectLinearIn(grid, nodeValues, segments, origin, direction, "projectLinearInRadiusSquared",
-    [](double r) { return r * r; },
-    [](const ClosestApproach& c, double u0, double u1)
-    { return c.p2 * (u1 - u0) + c.a * (u1 * u1 * u1 - u0 * u0 * u0) / 3.0; });
+  return projectLinearIn(grid, nodeValues, segmentsOf(segments), origin, direction,
+    "projectLinearInRadiusSquared", kRadiusSquared, kIntegralOfRadiusSquared);
+}
+
+double projectLinearInRadius(const SphericalTraversal& traversal, const std::vector<double>& nodeValues,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax)
+{
+  return projectLinearIn(traversal.grid(), nodeValues, traversalOf(traversal, origin, direction, tmin, tmax),
+    origin, direction, "projectLinearInRadius", kRadius, kIntegralOfRadius);
+}
+
+double projectLinearInRadiusSquared(const SphericalTraversal& traversal, const std::vector<double>& nodeValues,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax)
+{
+  return projectLinearIn(traversal.grid(), nodeValues, traversalOf(traversal, origin, direction, tmin, tmax),
+    origin, direction, "projectLinearInRadiusSquared", kRadiusSquared, kIntegralOfRadiusSquared);
 }
 
 std::vector<double> sampleRadialNodes(

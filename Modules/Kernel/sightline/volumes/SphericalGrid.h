@@ -121,6 +121,11 @@ double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double
   const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction);
 double projectLinearInRadiusSquared(const SphericalGrid& grid, const std::vector<double>& nodeValues,
   const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction);
+/// The same integrals straight from the traversal, for the ray's part in [tmin, tmax].
+double projectLinearInRadius(const SphericalTraversal& traversal, const std::vector<double>& nodeValues,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax);
+double projectLinearInRadiusSquared(const SphericalTraversal& traversal, const std::vector<double>& nodeValues,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax);
 
 /// Node values for the two samplers above from a field f(r, theta, phi): each column's values at
 /// the radial breakpoints, at its theta and phi midpoints.

@@ -243,6 +243,41 @@ TEST(SphericalGrid, SectionEveryRayClass)
   checkAllRayClasses(section(), "shell x band x wedge");
 }
 
+TEST(SphericalGrid, ForEachCellStopsWhereTheVisitorSays)
+{
+  // The visitor sees the segments of traverse(), in order, and nothing after it returns false.
+  for (const SphericalGrid& grid : { fullSphere(), section() })
+  {
+    const SphericalTraversal traversal(grid);
+    std::vector<CellSegment> all;
+    int rays = 0;
+    sightline_test::forEachRayClass(grid,
+      [&](const char* what, const dvec3& p, const dvec3& d, double tmin, double tmax, bool)
+      {
+        traversal.traverse(p, d, tmin, tmax, all);
+        const std::size_t stop = all.size() / 2;
+        std::vector<CellSegment> seen;
+        traversal.forEachCell(p, d, tmin, tmax,
+          [&](int r, int theta, int phi, double t0, double t1)
+          {
+            seen.push_back({ r, theta, phi, t0, t1 });
+            return seen.size() <= stop;
+          });
+        ASSERT_EQ(seen.size(), all.empty() ? 0 : stop + 1) << what;
+        for (std::size_t i = 0; i < seen.size(); ++i)
+        {
+          EXPECT_EQ(seen[i].r, all[i].r) << what;
+          EXPECT_EQ(seen[i].theta, all[i].theta) << what;
+          EXPECT_EQ(seen[i].phi, all[i].phi) << what;
+          EXPECT_EQ(seen[i].t0, all[i].t0) << what;
+          EXPECT_EQ(seen[i].t1, all[i].t1) << what;
+        }
+        rays += !all.empty();
+      });
+    EXPECT_GT(rays, 100);
+  }
+}
+
 TEST(SphericalGrid, PolarGridInAPlane)
 {
   // 2-D polar: theta spans [0, pi] in one band, rays in the plane z = 0.

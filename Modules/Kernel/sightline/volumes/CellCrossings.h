@@ -76,5 +76,14 @@ inline void forEachMergedCell(const Crossings& c, Visit&& visit)
     h2 = n2->t;
   }
 }
+/// A visitor for forEachMergedCell that appends each cell to `out` (the traversals' lists).
+inline auto appendingTo(std::vector<CellSegment>& out)
+{
+  return [&out](int i0, int i1, int i2, double t0, double t1)
+  {
+    out.push_back({ i0, i1, i2, t0, t1 });
+    return true;
+  };
+}
 } // namespace traversal
 } // namespace sightline

@@ -40,12 +40,7 @@ void CylindricalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin,
   std::vector<CellSegment>& out) const
 {
   out.clear();
-  forEachCell(p, d, tmin, tmax,
-    [&](int r, int z, int phi, double t0, double t1)
-    {
-      out.push_back({ r, z, phi, t0, t1 });
-      return true;
-    });
+  forEachCell(p, d, tmin, tmax, traversal::appendingTo(out));
 }
 
 bool CylindricalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, double tmax,

@@ -55,12 +55,7 @@ void SphericalTraversal::traverse(const dvec3& p, const dvec3& d, double tmin, d
   std::vector<CellSegment>& out) const
 {
   out.clear();
-  forEachCell(p, d, tmin, tmax,
-    [&](int r, int theta, int phi, double t0, double t1)
-    {
-      out.push_back({ r, theta, phi, t0, t1 });
-      return true;
-    });
+  forEachCell(p, d, tmin, tmax, traversal::appendingTo(out));
 }
 
 bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, double tmax,

@@ -76,6 +76,7 @@ inline void forEachMergedCell(const Crossings& c, Visit&& visit)
     h2 = n2->t;
   }
 }
+
 /// A visitor for forEachMergedCell that appends each cell to `out` (the traversals' lists).
 inline auto appendingTo(std::vector<CellSegment>& out)
 {

@@ -94,8 +94,9 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
   const double phi0 = HalfPlanes.front().z;
   auto unwrap = [&](const dvec3& x)
   {
-    // phi0 + ((phi - phi0) mod 2 pi), in [phi0, phi0 + 2 pi). Within a turn of phi0 (every
-    // grid whose azimuths start in [-pi, 3 pi)) the two exact subtractions give fmod's bits.
+    // phi0 + ((phi - phi0) mod 2 pi), in [phi0, phi0 + 2 pi). When phi is within a turn of
+    // phi0 (always, for grids whose azimuths start in (-pi, pi)) two exact subtractions give
+    // fmod's bits; otherwise fmod.
     const double a = std::atan2(x.y, x.x) - phi0;
     if (!(std::abs(a) < kTwoPi))
       return phi0 + std::fmod(std::fmod(a, kTwoPi) + kTwoPi, kTwoPi);

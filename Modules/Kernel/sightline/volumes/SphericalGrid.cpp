@@ -200,37 +200,6 @@ bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, 
   return true;
 }
 
-double projectCellConstant(const SphericalGrid& grid, const std::vector<double>& values,
-  const std::vector<CellSegment>& segments, double directionLength)
-{
-  if (values.size() != grid.cellCount())
-    throw std::invalid_argument("sightline::projectCellConstant: " + std::to_string(values.size()) +
-      " values for " + std::to_string(grid.cellCount()) + " cells");
-  double sum = 0.0;
-  for (const CellSegment& s : segments)
-    sum += values[grid.cellIndex(s.r, s.theta, s.phi)] * (s.t1 - s.t0);
-  return sum * directionLength;
-}
-
-double projectCellConstant(const SphericalTraversal& traversal, const std::vector<double>& values,
-  const dvec3& origin, const dvec3& direction, double tmin, double tmax)
-{
-  const SphericalGrid& grid = traversal.grid();
-  if (values.size() != grid.cellCount())
-    throw std::invalid_argument("sightline::projectCellConstant: " + std::to_string(values.size()) +
-      " values for " + std::to_string(grid.cellCount()) + " cells");
-  double sum = 0.0;
-  const double* v = values.data();
-  const std::size_t nr = std::size_t(grid.radialCells()), nrTheta = nr * std::size_t(grid.polarCells());
-  traversal.forEachCell(origin, direction, tmin, tmax,
-    [&](int r, int theta, int phi, double t0, double t1)
-    {
-      sum += v[std::size_t(r) + nr * std::size_t(theta) + nrTheta * std::size_t(phi)] * (t1 - t0);
-      return true;
-    });
-  return sum * glm::length(direction);
-}
-
 vec4 emissionAbsorption(const SphericalGrid& grid, const std::vector<double>& values,
   const std::function<TransferSample(double)>& transfer, const std::vector<CellSegment>& segments,
   double directionLength, double minimumTransmittance)
@@ -329,6 +298,26 @@ auto traversalOf(const SphericalTraversal& traversal, const dvec3& origin, const
   { traversal.forEachCell(origin, direction, tmin, tmax, add); };
 }
 
+// Value x length summed over a ray's cells (yt's ProjectionSampler).
+template <class ForEachSegment>
+double projectCellConstantOver(const SphericalGrid& grid, const std::vector<double>& values,
+  const ForEachSegment& forEachSegment, double directionLength)
+{
+  if (values.size() != grid.cellCount())
+    throw std::invalid_argument("sightline::projectCellConstant: " + std::to_string(values.size()) +
+      " values for " + std::to_string(grid.cellCount()) + " cells");
+  const double* v = values.data();
+  const std::size_t nr = std::size_t(grid.radialCells()), nrTheta = nr * std::size_t(grid.polarCells());
+  double sum = 0.0;
+  forEachSegment(
+    [&](int r, int theta, int phi, double t0, double t1)
+    {
+      sum += v[std::size_t(r) + nr * std::size_t(theta) + nrTheta * std::size_t(phi)] * (t1 - t0);
+      return true;
+    });
+  return sum * directionLength;
+}
+
 const auto kRadius = [](double r) { return r; };
 const auto kIntegralOfRadius = [](const ClosestApproach& c, double u0, double u1)
 { return radiusAntiderivative(u1, c.a, c.p2) - radiusAntiderivative(u0, c.a, c.p2); };
@@ -337,6 +326,19 @@ const auto kRadiusSquared = [](double r) { return r * r; };
 const auto kIntegralOfRadiusSquared = [](const ClosestApproach& c, double u0, double u1)
 { return c.p2 * (u1 - u0) + c.a * (u1 * u1 * u1 - u0 * u0 * u0) / 3.0; };
 } // namespace
+
+double projectCellConstant(const SphericalGrid& grid, const std::vector<double>& values,
+  const std::vector<CellSegment>& segments, double directionLength)
+{
+  return projectCellConstantOver(grid, values, segmentsOf(segments), directionLength);
+}
+
+double projectCellConstant(const SphericalTraversal& traversal, const std::vector<double>& values,
+  const dvec3& origin, const dvec3& direction, double tmin, double tmax)
+{
+  return projectCellConstantOver(traversal.grid(), values, traversalOf(traversal, origin, direction, tmin, tmax),
+    glm::length(direction));
+}
 
 double projectLinearInRadius(const SphericalGrid& grid, const std::vector<double>& nodeValues,
   const std::vector<CellSegment>& segments, const dvec3& origin, const dvec3& direction)

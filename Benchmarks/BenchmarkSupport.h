@@ -41,7 +41,7 @@ struct Options
   /// Where scenes that read real data find or generate it; empty: a folder in the output
   /// directory (sh-glyph-window: the tiled NIfTI of scripts/make_sh_data.py and DIPY's spheres).
   std::string dataDirectory;
-  /// tensor-glyphs and tubes: run only the methods whose name contains one of these (the
+  /// sh-glyphs, tensor-glyphs and tubes: run only the methods whose name contains one of these (the
   /// reference and the method the ratios divide by always run); empty: all.
   std::vector<std::string> methodFilter;
   /// Whether --methods leaves `method` in.

@@ -596,6 +596,8 @@ std::vector<MethodResult> runDataset(const Options& options, const Dataset& data
   // An exact (or marching) glyph set in a scene of its own, rendered plainly.
   auto addGlyphs = [&](const std::string& method, SHGlyphOptions glyphOptions, const std::string& what)
   {
+    if (method != "reference" && !options.wantsMethod(method))
+      return;
     logProgress("sh-glyphs: " + prefix + method);
     std::shared_ptr<SHGlyphSet> glyphs;
     const double construct = timeOnce([&] { glyphs = makeGlyphSet(dataset, glyphOptions); });
@@ -638,6 +640,8 @@ std::vector<MethodResult> runDataset(const Options& options, const Dataset& data
   for (int level : tessellationLevels(options))
   {
     const std::string method = "tess-L" + std::to_string(level);
+    if (!options.wantsMethod(method))
+      continue;
     const long long triangles = glyphCount * (long long)sightline::icosphereTriangleCount(level);
     if (triangles > options.maxTriangles)
     {
@@ -671,6 +675,7 @@ std::vector<MethodResult> runDataset(const Options& options, const Dataset& data
     add(std::move(tessellated), notes.str());
   }
 
+  if (options.wantsMethod("boxes-only"))
   {
     logProgress("sh-glyphs: " + prefix + "boxes-only");
     auto built = std::make_shared<const BuiltScene>(std::make_shared<GlyphBoxes>(*exact));
@@ -683,31 +688,48 @@ std::vector<MethodResult> runDataset(const Options& options, const Dataset& data
   const std::string byDesign = " (a different image by design: its error measures the effect)";
   sightline::RenderOptions hard;
   hard.shadows.mode = sightline::ShadowMode::Hard;
-  logProgress("sh-glyphs: " + prefix + "hard-shadows");
-  add(prepareMethod(view, prefix + "hard-shadows", exactScene, nullptr, hard, exactBuild, glyphCount),
-    "exact + one shadow ray per pixel" + byDesign);
+  if (options.wantsMethod("hard-shadows"))
+  {
+    logProgress("sh-glyphs: " + prefix + "hard-shadows");
+    add(prepareMethod(view, prefix + "hard-shadows", exactScene, nullptr, hard, exactBuild, glyphCount),
+      "exact + one shadow ray per pixel" + byDesign);
+  }
   sightline::RenderOptions soft;
   soft.shadows.mode = sightline::ShadowMode::Soft;
   soft.shadows.samples = 16;
-  logProgress("sh-glyphs: " + prefix + "soft-shadows-16");
-  add(prepareMethod(view, prefix + "soft-shadows-16", exactScene, nullptr, soft, exactBuild, glyphCount),
-    "exact + 16 shadow rays into a light of angular radius 0.15" + byDesign);
+  if (options.wantsMethod("soft-shadows-16"))
+  {
+    logProgress("sh-glyphs: " + prefix + "soft-shadows-16");
+    add(prepareMethod(view, prefix + "soft-shadows-16", exactScene, nullptr, soft, exactBuild, glyphCount),
+      "exact + 16 shadow rays into a light of angular radius 0.15" + byDesign);
+  }
 
-  logProgress("sh-glyphs: " + prefix + "uncertainty");
-  const Dataset uncertaintyData = makeUncertainty(dataset, options.seed + 17);
-  std::shared_ptr<SHGlyphSet> uncertainty;
-  const double uncertaintyConstruct = timeOnce([&] { uncertainty = makeGlyphSet(uncertaintyData, SHGlyphOptions{}); });
-  auto uncertaintyScene = std::make_shared<const BuiltScene>(uncertainty);
-  const double volumeBuild = exactBuild + uncertaintyConstruct + uncertaintyScene->scene->buildSeconds();
-  std::ostringstream volumeWhat;
-  volumeWhat << "exact + uncertainty volume (second glyph set: b0 x 1.7, each coefficient x N(1, 0.05); extinction "
-             << kVolumeExtinction << ", emission 0.5; its bounds " << fixed(uncertainty->boundsSeconds(), 3) << " s)";
-  add(prepareMethod(view, prefix + "uncertainty", exactScene, uncertaintyScene, {}, volumeBuild, glyphCount),
-    volumeWhat.str() + byDesign);
-  logProgress("sh-glyphs: " + prefix + "uncertainty-soft-shadows");
-  add(prepareMethod(view, prefix + "uncertainty-soft-shadows", exactScene, uncertaintyScene, soft, volumeBuild,
-        glyphCount),
-    volumeWhat.str() + " + soft shadows (16)" + byDesign);
+  if (options.wantsMethod("uncertainty") || options.wantsMethod("uncertainty-soft-shadows"))
+  {
+    const Dataset uncertaintyData = makeUncertainty(dataset, options.seed + 17);
+    std::shared_ptr<SHGlyphSet> uncertainty;
+    const double uncertaintyConstruct =
+      timeOnce([&] { uncertainty = makeGlyphSet(uncertaintyData, SHGlyphOptions{}); });
+    auto uncertaintyScene = std::make_shared<const BuiltScene>(uncertainty);
+    const double volumeBuild = exactBuild + uncertaintyConstruct + uncertaintyScene->scene->buildSeconds();
+    std::ostringstream volumeWhat;
+    volumeWhat << "exact + uncertainty volume (second glyph set: b0 x 1.7, each coefficient x N(1, 0.05); "
+               << "extinction " << kVolumeExtinction << ", emission 0.5; its bounds "
+               << fixed(uncertainty->boundsSeconds(), 3) << " s)";
+    if (options.wantsMethod("uncertainty"))
+    {
+      logProgress("sh-glyphs: " + prefix + "uncertainty");
+      add(prepareMethod(view, prefix + "uncertainty", exactScene, uncertaintyScene, {}, volumeBuild, glyphCount),
+        volumeWhat.str() + byDesign);
+    }
+    if (options.wantsMethod("uncertainty-soft-shadows"))
+    {
+      logProgress("sh-glyphs: " + prefix + "uncertainty-soft-shadows");
+      add(prepareMethod(view, prefix + "uncertainty-soft-shadows", exactScene, uncertaintyScene, soft,
+            volumeBuild, glyphCount),
+        volumeWhat.str() + " + soft shadows (16)" + byDesign);
+    }
+  }
 
   logProgress("sh-glyphs: " + prefix + std::to_string(options.runs) + " timed frames of " +
     std::to_string(prepared.size()) + " methods, round robin");

@@ -42,7 +42,7 @@ void printUsage(std::ostream& out)
        "  --seed S                random seed of the scene (default 20240601)\n"
        "  --data-dir DIR          where scenes that read real data find it or generate it\n"
        "                          (default: a folder in --output)\n"
-       "  --methods S[,S...]      tensor-glyphs, tubes: only the methods whose name contains one of\n"
+       "  --methods S[,S...]      sh-glyphs, tensor-glyphs, tubes: only the methods whose name contains one of\n"
        "                          these (the reference and the exact or default method always run)\n"
        "  --no-plot               do not run plot_benchmarks.py at the end\n"
        "  --python PATH           Python with matplotlib (default " SIGHTLINE_BENCHMARK_PYTHON ")\n"

@@ -60,6 +60,21 @@ struct RayTables
   /// heightCurvature * max |q| (|q''| <= m^2 max |q|, half spacing pi / (2 M)).
   T heightCurvature = T(0);
   T heightCotangent[kMaxHeightSamples]; ///< cot theta_j
+  /// The entry certificate's finer samples: each interval [theta_j, theta_(j+1)] cut in
+  /// kEntryCuts pieces, fineBasis[i][(kEntryCuts - 1) j + s - 1] at theta_j + s pi / (kEntryCuts M).
+  static constexpr int kEntryCuts = 4;
+  static constexpr int kMaxFineSamples = (kEntryCuts - 1) * kMaxHeightSamples;
+  T fineBasis[kMaxGlyphOrder + 2][kMaxFineSamples];
+  T fineCotangent[kMaxFineSamples];
+  /// q' and q'' at the middle of each piece: the basis functions' derivatives in theta,
+  /// [i][kEntryCuts j + p] for piece p of [theta_j, theta_(j+1)] (per order: K + 1 rows).
+  std::vector<T> pieceFirst, pieceSecond;
+  int pieceStride = 0;
+  /// On a piece of width delta, |q'(theta)| >= |q'(mid)| - (delta / 2) |q''(mid)| - delta^2 /
+  /// 8 max|q'''|, and |q'''| <= m^3 max|q| (Bernstein): pieceHalfWidth = delta / 2,
+  /// pieceCubic = delta^2 m^3 / 8 (with a relative margin against rounding).
+  T pieceHalfWidth = T(0);
+  T pieceCubic = T(0);
 
   explicit RayTables(int k) : order(k)
   {
@@ -124,7 +139,41 @@ struct RayTables
         heightBasis[i][j] = used ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
       heightCotangent[j] = used ? T(std::cos(angle) / std::sin(angle)) : T(0);
     }
+    for (int j = 0; j < kMaxHeightSamples; ++j)
+      for (int cut = 1; cut < kEntryCuts; ++cut)
+      {
+        const int slot = (kEntryCuts - 1) * j + cut - 1;
+        const long double angle = (j + 0.5L + (long double)cut / kEntryCuts) * kPiLong / heightSamples;
+        const bool used = j + 1 < heightSamples;
+        for (int i = 0; i <= k + 1; ++i)
+          fineBasis[i][slot] = used ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
+        fineCotangent[slot] = used ? T(std::cos(angle) / std::sin(angle)) : T(0);
+      }
     const long double m = k + 1;
+    {
+      const long double delta = kPiLong / (kEntryCuts * heightSamples);
+      pieceHalfWidth = T(delta / 2 * (1.0L + 1e-6L));
+      pieceCubic = T(delta * delta * m * m * m / 8 * (1.0L + 1e-6L));
+      pieceStride = kEntryCuts * heightSamples;
+      pieceFirst.assign(std::size_t(k + 1) * pieceStride, T(0));
+      pieceSecond.assign(std::size_t(k + 1) * pieceStride, T(0));
+      // d/dtheta of c^i s^n (n = m - i) and the second derivative, with c = cos, s = sin.
+      const auto term = [](long double factor, long double c, int a, long double s, int b)
+      { return factor == 0.0L ? 0.0L : factor * std::pow(c, a) * std::pow(s, b); };
+      for (int slot = 0; slot < pieceStride; ++slot)
+      {
+        const long double angle = (0.5L + (slot + 0.5L) / kEntryCuts) * kPiLong / heightSamples;
+        const long double c = std::cos(angle), sn = std::sin(angle);
+        for (int i = 0; i <= k; ++i)
+        {
+          const int n = k + 1 - i;
+          pieceFirst[std::size_t(i) * pieceStride + slot] =
+            T(term(-i, c, i - 1, sn, n + 1) + term(n, c, i + 1, sn, n - 1));
+          pieceSecond[std::size_t(i) * pieceStride + slot] = T(term(i * (i - 1.0L), c, i - 2, sn, n + 2) -
+            term(i * (n + 1.0L) + n * (i + 1.0L), c, i, sn, n) + term(n * (n - 1.0L), c, i + 2, sn, n - 2));
+        }
+      }
+    }
     const long double curvature = m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples);
     heightCurvature = T(curvature);
     heightFactor = T(1.0L / (1.0L - curvature));
@@ -384,6 +433,8 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
   // the roots lie within the angles from the first to the last interval that may reach eo:
   // narrow [lo, hi] to those (widened by many root tolerances against rounding). Nothing is
   // narrowed when the interval across theta = 0 / pi (the ray's far ends) may reach eo.
+  // [theta_j, theta_(j+1)]: the intervals where the ray may first and last reach eo
+  int entryInterval = -1, exitInterval = -1;
   if (eo > T(0))
   {
     const T margin = tab.heightCurvature * heightBound + heightRounding;
@@ -404,21 +455,131 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
       const T widen = T(16) * tolerance * std::max(wmax, eps);
       lo = std::max(lo, eps * tab.heightCotangent[last + 1] - widen);
       hi = std::min(hi, eps * tab.heightCotangent[first] + widen);
+      entryInterval = last;
+      exitInterval = first;
     }
   }
   if (!(lo <= hi))
     return 0;
+  // The entry certificate. Along the ray theta decreases, and the ray is certainly outside at
+  // theta_(j+1), j = entryInterval (the intervals before it cannot reach eo). Walk on through
+  // the intervals cut in kEntryCuts pieces: a piece that cannot reach eo (the curvature bound
+  // above, on the shorter piece) is passed; the first that may must end certainly inside,
+  // with q monotonic on it (its change exceeds what q'' allows for a turn). Then |q| = eo
+  // exactly once in that piece, so the nearest root is the only root of P in its w-interval
+  // and needs no root isolation. Otherwise (grazing rays, thin lobes, a ray starting inside)
+  // the isolation below finds it. If every piece is passed, the ray misses.
+  bool entryFound = false;
+  T entryRoot = T(0), entryEnd = T(0);
+  if (entryInterval >= 0)
+  {
+    constexpr int cuts = RayTables<T>::kEntryCuts;
+    const T fineMargin = tab.heightCurvature / T(cuts * cuts) * heightBound + heightRounding;
+    bool decided = false;
+    for (int j = entryInterval; j >= exitInterval && !decided; --j)
+    {
+      // q and w at the cut points of [theta_j, theta_(j+1)], from theta_(j+1) (cut = cuts) down.
+      T value[cuts + 1], w[cuts + 1];
+      value[cuts] = q[j + 1];
+      w[cuts] = eps * tab.heightCotangent[j + 1];
+      value[0] = q[j];
+      w[0] = eps * tab.heightCotangent[j];
+      for (int cut = 1; cut < cuts; ++cut)
+      {
+        const int slot = (cuts - 1) * j + cut - 1;
+        T sum = T(0);
+        for (int i = 0; i <= K; ++i) // q = sum_i g_i cos^i sin^(k+1-i)
+          sum += g[i] * tab.fineBasis[i][slot];
+        value[cut] = sum;
+        w[cut] = eps * tab.fineCotangent[slot];
+      }
+      for (int cut = cuts; cut > 0 && !decided; --cut)
+      {
+        const T a = value[cut], b = value[cut - 1];
+        if (std::max(std::abs(a), std::abs(b)) + fineMargin < eo)
+          continue; // this piece cannot reach eo
+        decided = true;
+        if (!(std::abs(a) + heightRounding < eo && std::abs(b) - heightRounding > eo &&
+              w[cut] >= lo && w[cut - 1] <= hi))
+          break;
+        // q' cannot vanish on the piece: q' and q'' at its middle (their rounding: the basis
+        // derivatives are at most m and m^2 in size), then Taylor with the bound on q'''.
+        const std::size_t slot = std::size_t(cuts * j + cut - 1);
+        T first = T(0), second = T(0);
+        for (int i = 0; i <= K; ++i)
+        {
+          first += g[i] * tab.pieceFirst[std::size_t(i) * tab.pieceStride + slot];
+          second += g[i] * tab.pieceSecond[std::size_t(i) * tab.pieceStride + slot];
+        }
+        constexpr T m = T(K + 1);
+        const T slope = std::abs(first) - m * heightRounding -
+          tab.pieceHalfWidth * (std::abs(second) + m * m * heightRounding) - tab.pieceCubic * heightBound;
+        if (slope > T(0))
+        {
+          const T fa = evaluatePolynomial<N>(P, w[cut]), fb = evaluatePolynomial<N>(P, w[cut - 1]);
+          if (fa < T(0) && fb > T(0))
+          {
+            entryRoot = detail::monotonicRoot<N>(P, w[cut], w[cut - 1], fa, fb,
+              tolerance * std::max(wmax, eps), kRootIterationLimit);
+            entryEnd = w[cut - 1];
+            entryFound = true;
+          }
+        }
+      }
+    }
+    // No piece from the entry to the exit interval can reach eo: the ray misses the glyph.
+    if (!decided)
+      return 0;
+  }
+  // A sample where the ray is certainly inside the glyph (|q| beyond eo by more than its
+  // rounding) lies past the entry, so roots are searched for up to there first and then in the
+  // rest: the first interval usually holds the entry alone and needs no subdivision, and a
+  // nearest-hit query stops there. Both queries split at the same point, so the nearest root
+  // is the same bits whether or not the others are asked for.
+  T split = hi;
+  if (eo > T(0))
+  {
+    const T widen = T(16) * tolerance * std::max(wmax, eps);
+    for (int j = M - 1; j >= 0; --j) // along the ray: theta from pi down to 0
+      if (std::abs(q[j]) - heightRounding > eo)
+      {
+        const T inside = eps * tab.heightCotangent[j] + widen;
+        if (inside >= lo)
+          split = std::min(hi, inside);
+        break;
+      }
+  }
   // Root isolation by Bernstein subdivision in double; float keeps the derivative cascade (its
   // rounding level leaves too many Bernstein signs uncertain for subdivision to pay off).
+  const T rootTolerance = tolerance * std::max(wmax, eps);
+  const auto rootsIn = [&](T from, T to, T* found, bool first)
+  {
+    if constexpr (sizeof(T) >= sizeof(double))
+      return polynomialRootsSubdivision<N, T>(P, from, to, rootTolerance, found, first);
+    else
+      return polynomialRoots<N, T>(P, from, to, rootTolerance, found, first);
+  };
   const auto findRoots = [&](T* found, bool first)
   {
-    const T rootTolerance = tolerance * std::max(wmax, eps);
-    if constexpr (sizeof(T) >= sizeof(double))
-      return polynomialRootsSubdivision<N, T>(P, lo, hi, rootTolerance, found, first);
+    int n = 0;
+    T restFrom = split;
+    if (entryFound)
+    {
+      found[n++] = entryRoot;
+      restFrom = entryEnd;
+    }
     else
-      return polynomialRoots<N, T>(P, lo, hi, rootTolerance, found, first);
+      n = rootsIn(lo, split, found, first);
+    if (restFrom >= hi || (first && n > 0))
+      return n;
+    T rest[N];
+    const int more = rootsIn(restFrom, hi, rest, first);
+    for (int i = 0; i < more && !(first && n > 0); ++i)
+      if (n == 0 || rest[i] > found[n - 1])
+        found[n++] = rest[i];
+    return n;
   };
-  T roots[N];
+  T roots[2 * N];
   int count = findRoots(roots, firstOnly);
   // The centre itself solves P = 0 when the ray passes through it (P = w^2k (g_k^2 - w^2) at
   // eps = 0), and in float also when eps^k underflows. It is a surface point only where F
@@ -436,7 +597,7 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
     return std::abs(evaluate(b, x, y, z)) * scale <= T(4) * centreRadius;
   };
   int kept = 0;
-  for (int i = 0; i < count; ++i)
+  for (int i = 0; i < count && kept < N; ++i) // at most N: the two pieces' roots are distinct
   {
     const T ti = roots[i] * gmax - dO;
     if (ti < tmin || ti > tmax || !genuine(roots[i]))

@@ -208,10 +208,79 @@ void evaluateSHWithDerivatives(int order, T x, T y, T z, T* values, std::array<T
   }
 }
 
+namespace
+{
+/// F and its gradient in one pass of the recurrences, without the basis arrays (what a
+/// glyph's normal needs at every hit). Column m's coefficient weights w_m = sum_l b_lm S_l^m
+/// give F = sum w_m C_m and, through dC_m/dx = m C_(m-1) and dC_m/dy, the x and y derivatives;
+/// dS_l^(m-1)/dz = up S_l^m, so column m also gathers the z derivative of column m - 1.
+template <class T>
+SHFunctionValue<T> valueAndGradient(int order, const T* coefficients, T x, T y, T z)
+{
+  checkOrder(order);
+  const LegendreTables& t = tables();
+  SHFunctionValue<T> result;
+  T A = T(1), B = T(0);                  // Re, Im of (x + i y)^m
+  T previousA = T(0), previousB = T(0); // of (x + i y)^(m-1)
+  for (int m = 0; m <= order; ++m)
+  {
+    if (m > 0)
+    {
+      previousA = A;
+      previousB = B;
+      A = x * previousA - y * previousB;
+      B = x * previousB + y * previousA;
+    }
+    T weightA = T(0), weightB = T(0);   // column m's value weights
+    T slopeA = T(0), slopeB = T(0);     // column m - 1's z-derivative weights
+    auto accumulate = [&](int l, T s)
+    {
+      if (l % 2 != 0)
+        return;
+      weightA += coefficients[shIndex(l, m)] * s;
+      if (m > 0)
+      {
+        weightB += coefficients[shIndex(l, -m)] * s;
+        const T up = T(t.up[l][m - 1]);
+        slopeA += coefficients[shIndex(l, m - 1)] * up * s;
+        if (m > 1)
+          slopeB += coefficients[shIndex(l, -(m - 1))] * up * s;
+      }
+    };
+    T previous = T(t.start[m]);
+    T current = previous;
+    accumulate(m, current);
+    if (m + 1 <= order)
+    {
+      current = T(std::sqrt(double(2 * m + 3))) * z * previous;
+      accumulate(m + 1, current);
+    }
+    for (int l = m + 2; l <= order; ++l)
+    {
+      const T next = T(t.a[l][m]) * z * current - T(t.b[l][m]) * previous;
+      previous = current;
+      current = next;
+      accumulate(l, current);
+    }
+    result.value += weightA * A + weightB * B;
+    if (m > 0)
+    {
+      const T mm = T(m);
+      result.gradient[0] += mm * (weightA * previousA + weightB * previousB);
+      result.gradient[1] += mm * (weightB * previousA - weightA * previousB);
+      result.gradient[2] += slopeA * previousA + slopeB * previousB;
+    }
+  }
+  return result;
+}
+} // namespace
+
 template <class T>
 SHFunctionValue<T> evaluateSHFunction(int order, const T* coefficients, T x, T y, T z,
   bool withHessian)
 {
+  if (!withHessian)
+    return valueAndGradient(order, coefficients, x, y, z);
   const int count = shCoefficientCount(order);
   T values[shCoefficientCount(kMaxSHOrder)];
   std::array<T, 3> gradients[shCoefficientCount(kMaxSHOrder)];

@@ -231,78 +231,93 @@ const BatchLegendre<T>& batchLegendre()
   return instance;
 }
 
-/// evaluateSHSum at the K + 1 directions (x[l], y[l], z[l]) at once: the recurrences are the
-/// same for every direction, so the loops over directions are innermost, of fixed length, and
-/// vectorise; constants and coefficients are loaded once per ray instead of once per direction.
+/// Directions of the batch below: K + 1 rounded up to whole 32-byte vectors of T.
 template <int K, class T>
-inline void evaluateSHSumBatch(const T* coefficients, const T* x, const T* y, const T* z, T* sum)
+constexpr int kBatchLanes = (K + 1 + 32 / int(sizeof(T)) - 1) / (32 / int(sizeof(T))) * (32 / int(sizeof(T)));
+
+/// evaluateSHSum at the K + 1 directions (x[l], y[l], z[l]) at once: the recurrences are the
+/// same for every direction, so they run on vectors of directions (GCC vector extensions: two
+/// SSE2 registers each in the portable clone, one AVX2 register in the other); constants and
+/// coefficients are loaded once per ray instead of once per direction. The arrays hold
+/// kBatchLanes<K, T> entries (the padding lanes are ignored). Each direction's sum keeps the
+/// order of evaluateSHSum's.
+template <int K, class T>
+SIGHTLINE_INLINE_INTO_CLONES void evaluateSHSumBatch(const T* coefficients, const T* x, const T* y, const T* z, T* sum)
 {
-  constexpr int n = K + 1;
+  typedef T Vector __attribute__((vector_size(32)));
+  constexpr int lanes = 32 / int(sizeof(T));
+  constexpr int n = kBatchLanes<K, T> / lanes;
   const BatchLegendre<T>& t = batchLegendre<T>();
-  T A[n], B[n], previous[n], current[n], weightA[n], weightB[n];
-  for (int d = 0; d < n; ++d)
+  Vector X[n], Y[n], Z[n], A[n], B[n], total[n];
+  for (int v = 0; v < n; ++v)
   {
-    A[d] = T(1);
-    B[d] = T(0);
-    sum[d] = T(0);
+    std::memcpy(&X[v], x + v * lanes, sizeof(Vector));
+    std::memcpy(&Y[v], y + v * lanes, sizeof(Vector));
+    std::memcpy(&Z[v], z + v * lanes, sizeof(Vector));
+    A[v] = Vector{} + T(1);
+    B[v] = Vector{};
+    total[v] = Vector{};
   }
   for (int m = 0; m <= K; ++m)
   {
     if (m > 0)
-      for (int d = 0; d < n; ++d)
+      for (int v = 0; v < n; ++v)
       {
-        const T nextA = x[d] * A[d] - y[d] * B[d];
-        B[d] = x[d] * B[d] + y[d] * A[d];
-        A[d] = nextA;
+        const Vector nextA = X[v] * A[v] - Y[v] * B[v];
+        B[v] = X[v] * B[v] + Y[v] * A[v];
+        A[v] = nextA;
       }
-    const T cA0 = coefficients[shIndex(m, m)];
-    const T cB0 = m == 0 ? T(0) : coefficients[shIndex(m, -m)];
     const bool even = m % 2 == 0;
-    for (int d = 0; d < n; ++d)
+    const T cA0 = even ? coefficients[shIndex(m, m)] : T(0);
+    const T cB0 = even && m > 0 ? coefficients[shIndex(m, -m)] : T(0);
+    Vector previous[n], current[n], weightA[n], weightB[n];
+    for (int v = 0; v < n; ++v)
     {
-      previous[d] = t.start[m];
-      current[d] = t.start[m];
-      weightA[d] = even ? cA0 * current[d] : T(0);
-      weightB[d] = even ? cB0 * current[d] : T(0);
+      previous[v] = Vector{} + t.start[m];
+      current[v] = previous[v];
+      weightA[v] = cA0 * current[v];
+      weightB[v] = cB0 * current[v];
     }
     if (m + 1 <= K)
     {
-      for (int d = 0; d < n; ++d)
-        current[d] = t.first[m] * z[d] * previous[d];
+      for (int v = 0; v < n; ++v)
+        current[v] = t.first[m] * Z[v] * previous[v];
       if (!even)
       {
         const T cA = coefficients[shIndex(m + 1, m)];
         const T cB = coefficients[shIndex(m + 1, -m)];
-        for (int d = 0; d < n; ++d)
+        for (int v = 0; v < n; ++v)
         {
-          weightA[d] += cA * current[d];
-          weightB[d] += cB * current[d];
+          weightA[v] += cA * current[v];
+          weightB[v] += cB * current[v];
         }
       }
     }
     for (int l = m + 2; l <= K; ++l)
     {
       const T al = t.a[l][m], bl = t.b[l][m];
-      for (int d = 0; d < n; ++d)
+      for (int v = 0; v < n; ++v)
       {
-        const T next = al * z[d] * current[d] - bl * previous[d];
-        previous[d] = current[d];
-        current[d] = next;
+        const Vector next = al * Z[v] * current[v] - bl * previous[v];
+        previous[v] = current[v];
+        current[v] = next;
       }
       if (l % 2 == 0)
       {
         const T cA = coefficients[shIndex(l, m)];
         const T cB = m == 0 ? T(0) : coefficients[shIndex(l, -m)];
-        for (int d = 0; d < n; ++d)
+        for (int v = 0; v < n; ++v)
         {
-          weightA[d] += cA * current[d];
-          weightB[d] += cB * current[d];
+          weightA[v] += cA * current[v];
+          weightB[v] += cB * current[v];
         }
       }
     }
-    for (int d = 0; d < n; ++d)
-      sum[d] += weightA[d] * A[d] + weightB[d] * B[d];
+    for (int v = 0; v < n; ++v)
+      total[v] += weightA[v] * A[v] + weightB[v] * B[v];
   }
+  for (int v = 0; v < n; ++v)
+    std::memcpy(sum + v * lanes, &total[v], sizeof(Vector));
 }
 
 template <int K, class T>
@@ -337,9 +352,9 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
   }
 
   // g(u_l, v_l) = F(u_l d + v_l e) on the great circle, then g's coefficients.
-  T samples[K + 1];
+  T samples[kBatchLanes<K, T>];
   {
-    T x[K + 1], y[K + 1], z[K + 1];
+    T x[kBatchLanes<K, T>] = {}, y[kBatchLanes<K, T>] = {}, z[kBatchLanes<K, T>] = {};
     for (int l = 0; l <= K; ++l)
     {
       x[l] = tab.u[l] * d[0] + tab.v[l] * e[0];

@@ -7,6 +7,7 @@
 #include "sightline/math/SphereSampling.h"
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -139,14 +140,25 @@ struct RayTables
         heightBasis[i][j] = used ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
       heightCotangent[j] = used ? T(std::cos(angle) / std::sin(angle)) : T(0);
     }
+    // Powers by repeated products (std::pow in long double for every entry of every order
+    // took 70 ms at the first glyph test); c^i and s^i for i <= k + 3.
+    const auto powers = [k](long double x, long double* out)
+    {
+      out[0] = 1.0L;
+      for (int i = 1; i <= k + 3; ++i)
+        out[i] = out[i - 1] * x;
+    };
+    long double cosPower[kMaxGlyphOrder + 4], sinPower[kMaxGlyphOrder + 4];
     for (int j = 0; j < kMaxHeightSamples; ++j)
       for (int cut = 1; cut < kEntryCuts; ++cut)
       {
         const int slot = (kEntryCuts - 1) * j + cut - 1;
         const long double angle = (j + 0.5L + (long double)cut / kEntryCuts) * kPiLong / heightSamples;
         const bool used = j + 1 < heightSamples;
+        powers(std::cos(angle), cosPower);
+        powers(std::sin(angle), sinPower);
         for (int i = 0; i <= k + 1; ++i)
-          fineBasis[i][slot] = used ? T(std::pow(std::cos(angle), i) * std::pow(std::sin(angle), k + 1 - i)) : T(0);
+          fineBasis[i][slot] = used ? T(cosPower[i] * sinPower[k + 1 - i]) : T(0);
         fineCotangent[slot] = used ? T(std::cos(angle) / std::sin(angle)) : T(0);
       }
     const long double m = k + 1;
@@ -158,19 +170,19 @@ struct RayTables
       pieceFirst.assign(std::size_t(k + 1) * pieceStride, T(0));
       pieceSecond.assign(std::size_t(k + 1) * pieceStride, T(0));
       // d/dtheta of c^i s^n (n = m - i) and the second derivative, with c = cos, s = sin.
-      const auto term = [](long double factor, long double c, int a, long double s, int b)
-      { return factor == 0.0L ? 0.0L : factor * std::pow(c, a) * std::pow(s, b); };
+      const auto term = [&](long double factor, int a, int b)
+      { return factor == 0.0L ? 0.0L : factor * cosPower[a] * sinPower[b]; };
       for (int slot = 0; slot < pieceStride; ++slot)
       {
         const long double angle = (0.5L + (slot + 0.5L) / kEntryCuts) * kPiLong / heightSamples;
-        const long double c = std::cos(angle), sn = std::sin(angle);
+        powers(std::cos(angle), cosPower);
+        powers(std::sin(angle), sinPower);
         for (int i = 0; i <= k; ++i)
         {
           const int n = k + 1 - i;
-          pieceFirst[std::size_t(i) * pieceStride + slot] =
-            T(term(-i, c, i - 1, sn, n + 1) + term(n, c, i + 1, sn, n - 1));
-          pieceSecond[std::size_t(i) * pieceStride + slot] = T(term(i * (i - 1.0L), c, i - 2, sn, n + 2) -
-            term(i * (n + 1.0L) + n * (i + 1.0L), c, i, sn, n) + term(n * (n - 1.0L), c, i + 2, sn, n - 2));
+          pieceFirst[std::size_t(i) * pieceStride + slot] = T(term(-i, i - 1, n + 1) + term(n, i + 1, n - 1));
+          pieceSecond[std::size_t(i) * pieceStride + slot] = T(term(i * (i - 1.0L), i - 2, n + 2) -
+            term(i * (n + 1.0L) + n * (i + 1.0L), i, n) + term(n * (n - 1.0L), i + 2, n - 2));
         }
       }
     }
@@ -189,14 +201,19 @@ struct RayTables
 template <class T>
 const RayTables<T>& rayTables(int order)
 {
-  static const auto all = []
+  // Built per order at its first use: a scene of one order pays for its tables only.
+  // Once built, one atomic load per call (this runs for every ray-glyph test).
+  static std::atomic<const RayTables<T>*> ready[kOrderSlots];
+  if (const RayTables<T>* tables = ready[order / 2].load(std::memory_order_acquire))
+    return *tables;
+  static std::unique_ptr<RayTables<T>> tables[kOrderSlots];
+  static std::once_flag flags[kOrderSlots];
+  std::call_once(flags[order / 2], [order]
   {
-    std::vector<std::unique_ptr<RayTables<T>>> tables;
-    for (int k = 0; k <= kMaxGlyphOrder; k += 2)
-      tables.push_back(std::make_unique<RayTables<T>>(k));
-    return tables;
-  }();
-  return *all[order / 2];
+    tables[order / 2] = std::make_unique<RayTables<T>>(order);
+    ready[order / 2].store(tables[order / 2].get(), std::memory_order_release);
+  });
+  return *tables[order / 2];
 }
 
 /// The canonical basis's recurrence constants (detail::LegendreTables) in the arithmetic T of

@@ -30,6 +30,11 @@ constexpr int kMaxGlyphHits = 2 * kMaxGlyphOrder + 2;
 /// overflow float for rays near the centre; we dehomogenise at v = e.o and divide all lengths
 /// by the bound g_max, so every coefficient and root is of order one and rays through the
 /// centre need no special case.
+/// Two additions that keep every root: the cross-section's height |q(theta)| = |g| sin in the
+/// ray's plane, sampled with Bernstein's bound, culls rays beside the lobes and narrows the
+/// interval to the lobe the ray passes; where those samples prove that one monotonic piece
+/// holds the entry alone (an "entry certificate"), the nearest root is refined there without
+/// root isolation. Nearest-hit and all-roots queries take the same steps (same nearest root).
 template <class T>
 int intersectSHGlyph(int order, const T* coefficients, const T origin[3], const T direction[3],
   T tmin, T tmax, T tolerance, T* t, bool firstOnly);

@@ -551,7 +551,10 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
           const T fa = evaluatePolynomial<N>(P, w[cut]), fb = evaluatePolynomial<N>(P, w[cut - 1]);
           if (fa < T(0) && fb > T(0))
           {
-            entryRoot = detail::monotonicRoot<N>(P, w[cut], w[cut - 1], fa, fb,
+            // q is monotonic on the piece and much closer to linear than P: start where
+            // the line through its ends meets eo.
+            const T start = w[cut] + (eo - std::abs(a)) / (std::abs(b) - std::abs(a)) * (w[cut - 1] - w[cut]);
+            entryRoot = detail::monotonicRootFrom<N>(P, w[cut], w[cut - 1], fa, fb, start,
               tolerance * std::max(wmax, eps), kRootIterationLimit);
             entryEnd = w[cut - 1];
             entryFound = true;

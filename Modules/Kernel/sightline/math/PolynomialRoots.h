@@ -60,7 +60,18 @@ namespace detail
 /// (neither zero). Newton steps that would leave the bracket become bisections, and the
 /// bracket shrinks with every evaluation, so this terminates even where Newton alone cycles.
 template <int N, class T>
+T monotonicRootFrom(const T* c, T a, T b, T fa, T fb, T x, T tolerance, int maxIterations);
+
+template <int N, class T>
 T monotonicRoot(const T* c, T a, T b, T fa, T fb, T tolerance, int maxIterations)
+{
+  return monotonicRootFrom<N>(c, a, b, fa, fb, a - fa * (b - a) / (fb - fa), tolerance, maxIterations);
+}
+
+/// The same from the first guess x (where the caller knows a better one than the secant's; a
+/// guess outside (a, b) becomes the midpoint).
+template <int N, class T>
+T monotonicRootFrom(const T* c, T a, T b, T fa, T fb, T x, T tolerance, int maxIterations)
 {
   // Yuksel's scheme takes Newton steps inside the bracket. Our polynomials are often flat over
   // most of an interval (a cluster of complex roots near the glyph centre makes the higher
@@ -69,7 +80,6 @@ T monotonicRoot(const T* c, T a, T b, T fa, T fb, T tolerance, int maxIterations
   // derivative, is exact for such clusters and converges cubically at simple roots: 3-4
   // steps. A step that leaves the bracket becomes a bisection; only a Laguerre step that
   // moved less than the tolerance, or a bracket narrower than it, ends the iteration.
-  T x = a - fa * (b - a) / (fb - fa);
   if (!(x > a && x < b))
     x = T(0.5) * (a + b);
   for (int iteration = 0; iteration < maxIterations; ++iteration)

@@ -554,7 +554,7 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
             // q is monotonic on the piece and much closer to linear than P: start where
             // the line through its ends meets eo.
             const T start = w[cut] + (eo - std::abs(a)) / (std::abs(b) - std::abs(a)) * (w[cut - 1] - w[cut]);
-            entryRoot = detail::monotonicRootFrom<N>(P, w[cut], w[cut - 1], fa, fb, start,
+            entryRoot = detail::monotonicRootFrom<N>(P, w[cut], w[cut - 1], fa, start,
               tolerance * std::max(wmax, eps), kRootIterationLimit);
             entryEnd = w[cut - 1];
             entryFound = true;
@@ -572,7 +572,7 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
   // nearest-hit query stops there. Both queries split at the same point, so the nearest root
   // is the same bits whether or not the others are asked for.
   T split = hi;
-  if (eo > T(0))
+  if (eo > T(0) && !entryFound) // the certificate's piece end takes its place
   {
     const T widen = T(16) * tolerance * std::max(wmax, eps);
     for (int j = M - 1; j >= 0; --j) // along the ray: theta from pi down to 0

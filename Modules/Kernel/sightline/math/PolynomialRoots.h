@@ -57,21 +57,11 @@ namespace detail
 {
 
 /// The root of a polynomial that is monotonic on [a, b] with f(a), f(b) of opposite signs
-/// (neither zero). Newton steps that would leave the bracket become bisections, and the
-/// bracket shrinks with every evaluation, so this terminates even where Newton alone cycles.
+/// (neither zero; only f(a) is needed), from the first guess x (a guess outside (a, b) becomes the midpoint). Newton
+/// steps that would leave the bracket become bisections, and the bracket shrinks with every
+/// evaluation, so this terminates even where Newton alone cycles.
 template <int N, class T>
-T monotonicRootFrom(const T* c, T a, T b, T fa, T fb, T x, T tolerance, int maxIterations);
-
-template <int N, class T>
-T monotonicRoot(const T* c, T a, T b, T fa, T fb, T tolerance, int maxIterations)
-{
-  return monotonicRootFrom<N>(c, a, b, fa, fb, a - fa * (b - a) / (fb - fa), tolerance, maxIterations);
-}
-
-/// The same from the first guess x (where the caller knows a better one than the secant's; a
-/// guess outside (a, b) becomes the midpoint).
-template <int N, class T>
-T monotonicRootFrom(const T* c, T a, T b, T fa, T fb, T x, T tolerance, int maxIterations)
+T monotonicRootFrom(const T* c, T a, T b, T fa, T x, T tolerance, int maxIterations)
 {
   // Yuksel's scheme takes Newton steps inside the bracket. Our polynomials are often flat over
   // most of an interval (a cluster of complex roots near the glyph centre makes the higher
@@ -108,6 +98,13 @@ T monotonicRootFrom(const T* c, T a, T b, T fa, T fb, T x, T tolerance, int maxI
       return x;
   }
   return x;
+}
+
+/// The same from the secant's guess.
+template <int N, class T>
+T monotonicRoot(const T* c, T a, T b, T fa, T fb, T tolerance, int maxIterations)
+{
+  return monotonicRootFrom<N>(c, a, b, fa, a - fa * (b - a) / (fb - fa), tolerance, maxIterations);
 }
 
 template <class T>

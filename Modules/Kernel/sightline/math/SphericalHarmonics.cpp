@@ -52,6 +52,32 @@ void azimuthalPowers(int order, T x, T y, T* A, T* B)
   }
 }
 
+/// Walks column m of the Legendre recurrence, S_l^m for l = m..order, keeping only the two
+/// previous values, and calls visit(l, S_l^m) for the even bands (the only ones glyphs have).
+template <class T, class Visit>
+inline void forEachEvenBandOfColumn(int order, int m, T z, Visit&& visit)
+{
+  const LegendreTables& t = tables();
+  T previous = T(t.start[m]); // S_m^m
+  T current = previous;
+  if (m % 2 == 0)
+    visit(m, current);
+  if (m + 1 <= order)
+  {
+    current = T(std::sqrt(double(2 * m + 3))) * z * previous;
+    if ((m + 1) % 2 == 0)
+      visit(m + 1, current);
+  }
+  for (int l = m + 2; l <= order; ++l)
+  {
+    const T next = T(t.a[l][m]) * z * current - T(t.b[l][m]) * previous;
+    previous = current;
+    current = next;
+    if (l % 2 == 0)
+      visit(l, current);
+  }
+}
+
 void checkOrder(int order)
 {
   if (order < 0 || order > kMaxSHOrder || order % 2 != 0)
@@ -233,10 +259,8 @@ SHFunctionValue<T> valueAndGradient(int order, const T* coefficients, T x, T y, 
     }
     T weightA = T(0), weightB = T(0);   // column m's value weights
     T slopeA = T(0), slopeB = T(0);     // column m - 1's z-derivative weights
-    auto accumulate = [&](int l, T s)
+    forEachEvenBandOfColumn(order, m, z, [&](int l, T s)
     {
-      if (l % 2 != 0)
-        return;
       weightA += coefficients[shIndex(l, m)] * s;
       if (m > 0)
       {
@@ -246,22 +270,7 @@ SHFunctionValue<T> valueAndGradient(int order, const T* coefficients, T x, T y, 
         if (m > 1)
           slopeB += coefficients[shIndex(l, -(m - 1))] * up * s;
       }
-    };
-    T previous = T(t.start[m]);
-    T current = previous;
-    accumulate(m, current);
-    if (m + 1 <= order)
-    {
-      current = T(std::sqrt(double(2 * m + 3))) * z * previous;
-      accumulate(m + 1, current);
-    }
-    for (int l = m + 2; l <= order; ++l)
-    {
-      const T next = T(t.a[l][m]) * z * current - T(t.b[l][m]) * previous;
-      previous = current;
-      current = next;
-      accumulate(l, current);
-    }
+    });
     result.value += weightA * A + weightB * B;
     if (m > 0)
     {
@@ -303,7 +312,6 @@ SHFunctionValue<T> evaluateSHFunction(int order, const T* coefficients, T x, T y
 template <class T>
 T evaluateSHSum(int order, const T* coefficients, T x, T y, T z)
 {
-  const LegendreTables& t = tables();
   // Walk m outwards, keeping only the two previous Legendre values of each column.
   T sum = T(0);
   T A = T(1), B = T(0);
@@ -315,15 +323,10 @@ T evaluateSHSum(int order, const T* coefficients, T x, T y, T z)
       B = x * B + y * A;
       A = nextA;
     }
-    T previous = T(t.start[m]);  // S_m^m
-    T current = previous;
-    int l = m;
     // Accumulate the (cos, sin) coefficient pair weighted by S_l^m over even l >= m.
     T weightA = T(0), weightB = T(0);
-    auto accumulate = [&](int band, T s)
+    forEachEvenBandOfColumn(order, m, z, [&](int band, T s)
     {
-      if (band % 2 != 0)
-        return;
       if (m == 0)
         weightA += coefficients[shIndex(band, 0)] * s;
       else
@@ -331,21 +334,7 @@ T evaluateSHSum(int order, const T* coefficients, T x, T y, T z)
         weightA += coefficients[shIndex(band, m)] * s;
         weightB += coefficients[shIndex(band, -m)] * s;
       }
-    };
-    accumulate(l, current);
-    if (l + 1 <= order)
-    {
-      current = T(std::sqrt(double(2 * m + 3))) * z * previous;
-      ++l;
-      accumulate(l, current);
-    }
-    for (l = m + 2; l <= order; ++l)
-    {
-      const T next = T(t.a[l][m]) * z * current - T(t.b[l][m]) * previous;
-      previous = current;
-      current = next;
-      accumulate(l, current);
-    }
+    });
     sum += weightA * A + weightB * B;
   }
   return sum;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace
 {
@@ -75,6 +76,39 @@ TEST(Framebuffer, ToRGBA8CompositesOverTheBackgroundAndRounds)
   EXPECT_EQ(bytes[8], 31);  // background 0.12 * 255 = 30.6
   EXPECT_EQ(bytes[12], 255);
   EXPECT_EQ(bytes[13], 0);
+}
+
+TEST(Framebuffer, ToRGBA8RoundsEveryFloatAsLround)
+{
+  // The conversion rounds v * 255 (a float) halves away from zero, as std::lround does: every
+  // tie that a float channel can produce, the floats on either side of it, and a sweep of
+  // values across and beyond [0, 1], opaque so that the background drops out.
+  std::vector<float> values{ 0.0f, 1.0f, -0.0f, -1e-30f, 1e-30f, 2.0f, -5.0f };
+  int ties = 0;
+  for (int k = 0; k < 255; ++k)
+  {
+    float v = float((k + 0.5) / 255.0);
+    for (int step = 0; step < 4; ++step)
+      v = std::nextafter(v, 0.0f);
+    for (int step = 0; step < 9; ++step, v = std::nextafter(v, 1.0f))
+    {
+      values.push_back(v);
+      ties += v * 255.0f == float(k) + 0.5f;
+    }
+  }
+  ASSERT_GT(ties, 100); // the test really meets ties
+  for (int i = 0; i <= 100000; ++i)
+    values.push_back(-0.1f + 1.2f * float(i) / 100000.0f);
+  Framebuffer framebuffer(int(values.size()), 1);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    framebuffer.Color[i] = vec4(values[i], values[i], values[i], 1.0f);
+  const std::vector<std::uint8_t> bytes = framebuffer.toRGBA8(vec3(0.3f));
+  for (std::size_t i = 0; i < values.size(); ++i)
+  {
+    const auto reference = std::uint8_t(std::lround(std::clamp(values[i], 0.0f, 1.0f) * 255.0f));
+    ASSERT_EQ(bytes[4 * i], reference) << "value " << values[i];
+    ASSERT_EQ(bytes[4 * i + 3], 255);
+  }
 }
 
 TEST(Framebuffer, CompositeNearestKeepsTheSmallerDepth)

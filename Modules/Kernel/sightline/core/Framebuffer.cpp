@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace sightline
 {
 namespace
@@ -51,24 +54,42 @@ void Framebuffer::clear()
 
 namespace
 {
-std::uint8_t toByte(float v)
+using Floats4 = float __attribute__((vector_size(16)));
+using Doubles4 = double __attribute__((vector_size(32)));
+using Ints4 = int __attribute__((vector_size(16)));
+
+/// One pixel's four channels: round(clamp(v, 0, 1) * 255), halves away from zero, as
+/// std::lround rounds. v * 255 is a float in [0, 255], so adding 0.5 in double is exact and
+/// truncation rounds it. On vectors without a library call or a branch (std::lround per channel
+/// took 40 ms a 1080p frame); NaN gives 0, as before.
+inline void toBytes(Floats4 v, std::uint8_t* out)
 {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+  const Floats4 zero = {}, one = zero + 1.0f;
+  v = v > zero ? v : zero; // NaN fails the comparison: 0
+  v = v < one ? v : one;
+  const Ints4 rounded =
+    __builtin_convertvector(__builtin_convertvector(v * 255.0f, Doubles4) + 0.5, Ints4);
+  for (int channel = 0; channel < 4; ++channel)
+    out[channel] = static_cast<std::uint8_t>(rounded[channel]);
 }
 } // namespace
 
 std::vector<std::uint8_t> Framebuffer::toRGBA8(const vec3& background) const
 {
   std::vector<std::uint8_t> out(4 * Color.size());
-  for (std::size_t i = 0; i < Color.size(); ++i)
-  {
-    const vec4& c = Color[i];
-    const vec3 rgb = glm::mix(background, vec3(c), c.a);
-    out[4 * i + 0] = toByte(rgb.r);
-    out[4 * i + 1] = toByte(rgb.g);
-    out[4 * i + 2] = toByte(rgb.b);
-    out[4 * i + 3] = toByte(c.a);
-  }
+  // In parallel: every window frame converts its whole image before the upload.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, Color.size(), 1 << 14),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      const vec4* colors = Color.data();
+      std::uint8_t* bytes = out.data(); // a local pointer: the stores cannot alias it
+      for (std::size_t i = range.begin(); i < range.end(); ++i)
+      {
+        const vec4& c = colors[i];
+        const vec3 rgb = glm::mix(background, vec3(c), c.a);
+        toBytes(Floats4{ rgb.r, rgb.g, rgb.b, c.a }, bytes + 4 * i);
+      }
+    });
   return out;
 }
 

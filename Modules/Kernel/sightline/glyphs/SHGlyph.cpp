@@ -656,23 +656,48 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
 
 using Lanes4 = double __attribute__((vector_size(32))); // two SSE2 registers, one AVX2 one
 
-/// out[lane] = sum over j of b[j] * block[j * 8 + lane], each summed in order of j. Cloned
-/// for AVX2 (chosen at load time, so the default build stays portable): four lanes per
-/// instruction, and without FMA contraction the same bits as the SSE2 version.
-SIGHTLINE_AVX2_CLONES void seriesValuesOfBlock(
-  const double* b, const double* block, int stride, double* out)
+/// Glyphs whose box or largest radius one pass over a direction table serves: the table is
+/// read from memory once for all of them (alone, one glyph's sums waited on the table's loads).
+constexpr int kGlyphBatch = 4;
+
+/// out[g][lane] = sum over j of b[g][j] * block[j * 8 + lane] for G glyphs, each summed in order
+/// of j (the same bits as one glyph alone).
+template <int G>
+SIGHTLINE_INLINE_INTO_CLONES void seriesValuesOfBlockFor(
+  const double* const* b, const double* block, int stride, double (*out)[8])
 {
-  Lanes4 low = {}, high = {};
+  Lanes4 low[G] = {}, high[G] = {};
   for (int j = 0; j < stride; ++j, block += 8)
   {
     Lanes4 basisLow, basisHigh;
     std::memcpy(&basisLow, block, sizeof(Lanes4));
     std::memcpy(&basisHigh, block + 4, sizeof(Lanes4));
-    low += b[j] * basisLow;
-    high += b[j] * basisHigh;
+#pragma GCC unroll 4
+    for (int g = 0; g < G; ++g)
+    {
+      low[g] += b[g][j] * basisLow;
+      high[g] += b[g][j] * basisHigh;
+    }
   }
-  std::memcpy(out, &low, sizeof(Lanes4));
-  std::memcpy(out + 4, &high, sizeof(Lanes4));
+  for (int g = 0; g < G; ++g)
+  {
+    std::memcpy(out[g], &low[g], sizeof(Lanes4));
+    std::memcpy(out[g] + 4, &high[g], sizeof(Lanes4));
+  }
+}
+
+/// Cloned for AVX2 (chosen at load time, so the default build stays portable): four lanes per
+/// instruction, and without FMA contraction the same bits as the SSE2 version.
+SIGHTLINE_AVX2_CLONES void seriesValuesOfBlock(
+  const double* b, const double* block, int stride, double* out)
+{
+  seriesValuesOfBlockFor<1>(&b, block, stride, reinterpret_cast<double(*)[8]>(out));
+}
+
+SIGHTLINE_AVX2_CLONES void seriesValuesOfBlockBatch(
+  const double* const* b, const double* block, int stride, double (*out)[8])
+{
+  seriesValuesOfBlockFor<kGlyphBatch>(b, block, stride, out);
 }
 
 using Bits4 = long long __attribute__((vector_size(32)));
@@ -685,11 +710,12 @@ struct AxisMaxima
   Bits4 index[3][2] = {};
 };
 
-/// The same sums as seriesValuesOfBlock for `blocks` blocks, then |F| |w[axis]| against the
-/// lanes' running maxima (strictly greater replaces, so each lane keeps its first direction).
-/// |F w[axis]| = |F| |w[axis]| exactly, so the maxima are those of the serial search.
-SIGHTLINE_AVX2_CLONES void seriesAxisMaxima(const double* b,
-  const double* basis, const double* absDirections, int stride, int blocks, AxisMaxima& maxima)
+/// The same sums as seriesValuesOfBlockFor for `blocks` blocks and G glyphs, then |F| |w[axis]|
+/// against each glyph's running maxima (strictly greater replaces, so each lane keeps its first
+/// direction). |F w[axis]| = |F| |w[axis]| exactly, so the maxima are those of the serial search.
+template <int G>
+SIGHTLINE_INLINE_INTO_CLONES void seriesAxisMaximaFor(const double* const* b,
+  const double* basis, const double* absDirections, int stride, int blocks, AxisMaxima* maxima)
 {
   // Plain statements only (no helper returning a vector: that would change the default
   // clone's calling convention).
@@ -697,30 +723,49 @@ SIGHTLINE_AVX2_CLONES void seriesAxisMaxima(const double* b,
   const Bits4 laneOffsets[2] = { { 0, 1, 2, 3 }, { 4, 5, 6, 7 } };
   for (int block = 0; block < blocks; ++block, basis += std::size_t(stride) * 8, absDirections += 24)
   {
-    Lanes4 sums[2] = {};
+    Lanes4 sums[G][2] = {};
     for (int j = 0; j < stride; ++j)
-      for (int half = 0; half < 2; ++half)
-      {
-        Lanes4 basisValues;
-        std::memcpy(&basisValues, basis + j * 8 + half * 4, sizeof(Lanes4));
-        sums[half] += b[j] * basisValues;
-      }
-    for (int half = 0; half < 2; ++half)
     {
-      const Lanes4 absolute = Lanes4(Bits4(sums[half]) & magnitude);
-      const Bits4 ids = laneOffsets[half] + 8LL * block;
-      for (int axis = 0; axis < 3; ++axis)
+      Lanes4 basisValues[2];
+      std::memcpy(&basisValues[0], basis + j * 8, sizeof(Lanes4));
+      std::memcpy(&basisValues[1], basis + j * 8 + 4, sizeof(Lanes4));
+#pragma GCC unroll 4
+      for (int g = 0; g < G; ++g)
       {
-        Lanes4 component;
-        std::memcpy(&component, absDirections + axis * 8 + half * 4, sizeof(Lanes4));
-        const Lanes4 candidate = absolute * component;
-        const Bits4 larger = candidate > maxima.value[axis][half];
-        maxima.value[axis][half] =
-          Lanes4((larger & Bits4(candidate)) | (~larger & Bits4(maxima.value[axis][half])));
-        maxima.index[axis][half] = (larger & ids) | (~larger & maxima.index[axis][half]);
+        sums[g][0] += b[g][j] * basisValues[0];
+        sums[g][1] += b[g][j] * basisValues[1];
       }
     }
+    for (int g = 0; g < G; ++g)
+      for (int half = 0; half < 2; ++half)
+      {
+        const Lanes4 absolute = Lanes4(Bits4(sums[g][half]) & magnitude);
+        const Bits4 ids = laneOffsets[half] + 8LL * block;
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          Lanes4 component;
+          std::memcpy(&component, absDirections + axis * 8 + half * 4, sizeof(Lanes4));
+          const Lanes4 candidate = absolute * component;
+          Lanes4& value = maxima[g].value[axis][half];
+          Bits4& index = maxima[g].index[axis][half];
+          const Bits4 larger = candidate > value;
+          value = Lanes4((larger & Bits4(candidate)) | (~larger & Bits4(value)));
+          index = (larger & ids) | (~larger & index);
+        }
+      }
   }
+}
+
+SIGHTLINE_AVX2_CLONES void seriesAxisMaxima(const double* b,
+  const double* basis, const double* absDirections, int stride, int blocks, AxisMaxima& maxima)
+{
+  seriesAxisMaximaFor<1>(&b, basis, absDirections, stride, blocks, &maxima);
+}
+
+SIGHTLINE_AVX2_CLONES void seriesAxisMaximaBatch(const double* const* b,
+  const double* basis, const double* absDirections, int stride, int blocks, AxisMaxima* maxima)
+{
+  seriesAxisMaximaFor<kGlyphBatch>(b, basis, absDirections, stride, blocks, maxima);
 }
 
 /// Spherical Fibonacci directions in the upper hemisphere with the basis evaluated at each.
@@ -769,6 +814,22 @@ struct FibonacciTable
       seriesValuesOfBlock(b, block, stride, value);
       for (int lane = 0; lane < kLanes && first + lane < count; ++lane)
         visit(first + lane, value[lane]);
+    }
+  }
+
+  /// The same for kGlyphBatch glyphs in one pass over the table: visit(g, l, F_g(directions[l])),
+  /// each glyph's values in the same order and with the same bits as forEachValue.
+  template <class Visit>
+  void forEachValueOfBatch(const double* const* b, Visit&& visit) const
+  {
+    const double* block = blockedBasis.data();
+    for (int first = 0; first < count; first += kLanes, block += std::size_t(stride) * kLanes)
+    {
+      double value[kGlyphBatch][kLanes];
+      seriesValuesOfBlockBatch(b, block, stride, value);
+      for (int g = 0; g < kGlyphBatch; ++g)
+        for (int lane = 0; lane < kLanes && first + lane < count; ++lane)
+          visit(g, first + lane, value[g][lane]);
     }
   }
 };
@@ -926,14 +987,12 @@ bool insideSHGlyph(int order, const double* b, const dvec3& p)
   return r < std::abs(evaluateSHSum<double>(order, b, w.x, w.y, w.z));
 }
 
-dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
+namespace
 {
-  checkGlyphOrder(order);
-  const FibonacciTable& table = fibonacciTable(order);
-  AxisMaxima maxima;
-  seriesAxisMaxima(b, table.blockedBasis.data(), table.blockedAbsDirections.data(), table.stride,
-    (table.count + FibonacciTable::kLanes - 1) / FibonacciTable::kLanes, maxima);
-  // The lanes' maxima reduced as the serial search would: the largest, the first on a tie.
+/// The lanes' maxima reduced as the serial search would (the largest, the first on a tie), then
+/// each axis refined by Newton's method from its best direction.
+dvec3 halfExtentsFromMaxima(int order, const double* b, const FibonacciTable& table, const AxisMaxima& maxima)
+{
   dvec3 best(0.0);
   int bestIndex[3] = { 0, 0, 0 };
   for (int axis = 0; axis < 3; ++axis)
@@ -955,10 +1014,48 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
   return best;
 }
 
+int tableBlocks(const FibonacciTable& table)
+{
+  return (table.count + FibonacciTable::kLanes - 1) / FibonacciTable::kLanes;
+}
+
+double halfExtentMargin(int order)
+{
+  return order <= 8 ? 1.025 : 1.035;
+}
+} // namespace
+
+dvec3 shGlyphHalfExtentsUnpadded(int order, const double* b)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = fibonacciTable(order);
+  AxisMaxima maxima;
+  seriesAxisMaxima(b, table.blockedBasis.data(), table.blockedAbsDirections.data(), table.stride,
+    tableBlocks(table), maxima);
+  return halfExtentsFromMaxima(order, b, table, maxima);
+}
+
+void shGlyphHalfExtents(int order, std::size_t count, const double* const* coefficients, dvec3* halfExtents)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = fibonacciTable(order);
+  const double margin = halfExtentMargin(order);
+  std::size_t g = 0;
+  for (; g + kGlyphBatch <= count; g += kGlyphBatch)
+  {
+    AxisMaxima maxima[kGlyphBatch];
+    seriesAxisMaximaBatch(coefficients + g, table.blockedBasis.data(),
+      table.blockedAbsDirections.data(), table.stride, tableBlocks(table), maxima);
+    for (int i = 0; i < kGlyphBatch; ++i)
+      halfExtents[g + i] = margin * halfExtentsFromMaxima(order, coefficients[g + i], table, maxima[i]);
+  }
+  for (; g < count; ++g)
+    halfExtents[g] = shGlyphHalfExtents(order, coefficients[g]);
+}
+
 dvec3 shGlyphHalfExtents(int order, const double* b)
 {
-  const double margin = order <= 8 ? 1.025 : 1.035;
-  return margin * shGlyphHalfExtentsUnpadded(order, b);
+  return halfExtentMargin(order) * shGlyphHalfExtentsUnpadded(order, b);
 }
 
 namespace
@@ -1024,25 +1121,27 @@ double refinePeak(int order, const double* b, dvec3 w, double best, double sampl
 }
 } // namespace
 
-double shGlyphMaxRadius(int order, const double* b)
+namespace
 {
-  checkGlyphOrder(order);
-  const FibonacciTable& table = peakSearchTable(order);
-  // The few best samples that lie on different peaks (not within ~17 degrees of each other or
-  // of the antipode): two lobes of nearly equal height must both be climbed.
-  constexpr int kCandidates = 4;
-  const double sameLobe = 0.955;
+/// The few best samples of |F| that lie on different peaks (not within ~17 degrees of each other
+/// or of the antipode), best first: two lobes of nearly equal height must both be climbed.
+struct PeakCandidates
+{
+  static constexpr int kCandidates = 4;
+  static constexpr double kSameLobe = 0.955;
   int candidate[kCandidates];
   double height[kCandidates];
   int found = 0;
-  table.forEachValue(b, [&](int l, double value)
+
+  /// Offers direction l with value F; directions are offered in order of l.
+  void offer(const FibonacciTable& table, int l, double value)
   {
     value = std::abs(value);
     if (found == kCandidates && value <= height[kCandidates - 1])
       return;
     int near = -1;
     for (int c = 0; c < found && near < 0; ++c)
-      if (std::abs(glm::dot(table.directions[l], table.directions[candidate[c]])) > sameLobe)
+      if (std::abs(glm::dot(table.directions[l], table.directions[candidate[c]])) > kSameLobe)
         near = c;
     if (near >= 0 && value <= height[near])
       return;
@@ -1054,15 +1153,47 @@ double shGlyphMaxRadius(int order, const double* b)
     }
     height[slot] = value;
     candidate[slot] = l;
-  });
-  if (found == 0 || order == 0 || !(height[0] > 0.0))
-    return found ? std::max(height[0], 0.0) : 0.0;
-  const double spacing = std::sqrt(4.0 * kPi / table.count);
-  double best = 0.0;
-  for (int c = 0; c < found; ++c)
-    if (height[c] > 0.8 * height[0])
-      best = std::max(best, refinePeak(order, b, table.directions[candidate[c]], height[c], spacing));
-  return best;
+  }
+
+  /// The largest |F|: every candidate within 80 % of the best, climbed to its peak.
+  double climb(int order, const double* b, const FibonacciTable& table) const
+  {
+    if (found == 0 || order == 0 || !(height[0] > 0.0))
+      return found ? std::max(height[0], 0.0) : 0.0;
+    const double spacing = std::sqrt(4.0 * kPi / table.count);
+    double best = 0.0;
+    for (int c = 0; c < found; ++c)
+      if (height[c] > 0.8 * height[0])
+        best = std::max(best, refinePeak(order, b, table.directions[candidate[c]], height[c], spacing));
+    return best;
+  }
+};
+} // namespace
+
+double shGlyphMaxRadius(int order, const double* b)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = peakSearchTable(order);
+  PeakCandidates peaks;
+  table.forEachValue(b, [&](int l, double value) { peaks.offer(table, l, value); });
+  return peaks.climb(order, b, table);
+}
+
+void shGlyphMaxRadius(int order, std::size_t count, const double* const* coefficients, double* radii)
+{
+  checkGlyphOrder(order);
+  const FibonacciTable& table = peakSearchTable(order);
+  std::size_t g = 0;
+  for (; g + kGlyphBatch <= count; g += kGlyphBatch)
+  {
+    PeakCandidates peaks[kGlyphBatch];
+    table.forEachValueOfBatch(coefficients + g,
+      [&](int i, int l, double value) { peaks[i].offer(table, l, value); });
+    for (int i = 0; i < kGlyphBatch; ++i)
+      radii[g + i] = peaks[i].climb(order, coefficients[g + i], table);
+  }
+  for (; g < count; ++g)
+    radii[g] = shGlyphMaxRadius(order, coefficients[g]);
 }
 
 double shGlyphBoundingRadius(int order, const double* b)

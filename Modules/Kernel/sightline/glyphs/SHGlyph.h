@@ -59,6 +59,9 @@ bool insideSHGlyph(int order, const double* coefficients, const dvec3& p);
 /// tangency conditions for each axis, then enlarged by 2.5 % (k <= 8) or 3.5 % (k >= 10), the
 /// margins the paper validated. The glyph is point symmetric, so the box is [-h, h].
 dvec3 shGlyphHalfExtents(int order, const double* coefficients);
+/// The same for `count` glyphs of one order: halfExtents[g] is shGlyphHalfExtents(order,
+/// coefficients[g]), bit for bit; groups of four glyphs share one pass over the directions.
+void shGlyphHalfExtents(int order, std::size_t count, const double* const* coefficients, dvec3* halfExtents);
 /// The same without the safety margin (what the validation test compares).
 dvec3 shGlyphHalfExtentsUnpadded(int order, const double* coefficients);
 
@@ -66,6 +69,9 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* coefficients);
 /// normalisation divides by. The best of ~6 (k+1)^2 Fibonacci directions, refined by Newton's
 /// method on the sphere.
 double shGlyphMaxRadius(int order, const double* coefficients);
+/// The same for `count` glyphs of one order (radii[g] bit for bit as one at a time; groups of
+/// four share one pass over the directions).
+void shGlyphMaxRadius(int order, std::size_t count, const double* const* coefficients, double* radii);
 
 /// Radius of a sphere that certainly contains the glyph: sum_j |b_j| max|Y_j| (the bound of
 /// Peeters et al. 2009 that ray-marching baselines use).

@@ -6,6 +6,7 @@
 #include "sightline/math/SHRotation.h"
 #include "sightline/math/SymmetricTensor.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -23,6 +24,23 @@ constexpr float kNotComputed = std::numeric_limits<float>::quiet_NaN();
 constexpr std::size_t kBoxBlock = 2048;
 /// Points read at a time when every point of the source counts (global normalisation).
 constexpr std::size_t kReadBlock = 4096;
+
+/// Glyphs handed to the kernel's batched searches at a time by one task (whole batches of four
+/// share a pass over the direction tables).
+constexpr std::size_t kSearchGrain = 32;
+
+/// Largest amplitudes of glyphs of one order, in parallel: radii[i] = shGlyphMaxRadius(order,
+/// coefficients[i]).
+std::vector<double> maxRadii(int order, const std::vector<const double*>& coefficients)
+{
+  std::vector<double> radii(coefficients.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coefficients.size(), kSearchGrain),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      shGlyphMaxRadius(order, range.size(), coefficients.data() + range.begin(), radii.data() + range.begin());
+    });
+  return radii;
+}
 
 double canonicalNorm(const double* coefficients, int count)
 {
@@ -153,12 +171,17 @@ double SHGlyphPreparation::globalMaxAmplitude(const GlyphSource& source)
       if (std::isnan(Cache.maxAmplitudes[p]))
         block.push_back(p);
     readCanonical(source, block, canonical, finite);
-    tbb::parallel_for(std::size_t(0), block.size(), [&](std::size_t g)
-      {
-        Cache.maxAmplitudes[block[g]] = finite[g]
-          ? float(shGlyphMaxRadius(source.order, canonical.data() + g * count))
-          : 0.0f;
-      });
+    std::vector<const double*> searched;
+    for (std::size_t g = 0; g < block.size(); ++g)
+    {
+      Cache.maxAmplitudes[block[g]] = 0.0f;
+      if (finite[g])
+        searched.push_back(canonical.data() + g * count);
+    }
+    const std::vector<double> radii = maxRadii(source.order, searched);
+    for (std::size_t g = 0, i = 0; g < block.size(); ++g)
+      if (finite[g])
+        Cache.maxAmplitudes[block[g]] = float(radii[i++]);
   }
   for (float amplitude : Cache.maxAmplitudes)
     largest = std::max(largest, double(amplitude));
@@ -209,12 +232,17 @@ PreparedSHGlyphs SHGlyphPreparation::prepare(const GlyphSource& source, const Gl
     request.normalization == GlyphNormalization::MaxAmplitude || request.maxAmplitudes;
   if (needAmplitudes)
   {
-    tbb::parallel_for(std::size_t(0), request.points.size(), [&](std::size_t g)
+    std::vector<std::size_t> missing;
+    std::vector<const double*> searched;
+    for (std::size_t g = 0; g < request.points.size(); ++g)
+      if (finite[g] && std::isnan(Cache.maxAmplitudes[request.points[g]]))
       {
-        float& amplitude = Cache.maxAmplitudes[request.points[g]];
-        if (finite[g] && std::isnan(amplitude))
-          amplitude = float(shGlyphMaxRadius(order, canonical.data() + g * count));
-      });
+        missing.push_back(g);
+        searched.push_back(canonical.data() + g * count);
+      }
+    const std::vector<double> radii = maxRadii(order, searched);
+    for (std::size_t i = 0; i < missing.size(); ++i)
+      Cache.maxAmplitudes[request.points[missing[i]]] = float(radii[i]);
   }
   const double global = request.normalization == GlyphNormalization::Global
     ? globalMaxAmplitude(source)
@@ -278,14 +306,33 @@ void SHGlyphPreparation::computeBoxes(PreparedSHGlyphs& glyphs, const GlyphReque
     }
     missing.push_back(g);
   }
+  // Glyphs of one order together (trailing zero bands lower some), so that the kernel's
+  // batches share its direction tables.
+  std::stable_sort(missing.begin(), missing.end(),
+    [&](std::size_t a, std::size_t b) { return glyphs.orders[a] < glyphs.orders[b]; });
   for (std::size_t start = 0; start < missing.size(); start += kBoxBlock)
   {
     const std::size_t end = std::min(missing.size(), start + kBoxBlock);
-    tbb::parallel_for(start, end, [&](std::size_t m)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(start, end, kSearchGrain),
+      [&](const tbb::blocked_range<std::size_t>& range)
       {
-        const std::size_t g = missing[m];
-        Cache.halfExtents[glyphs.points[g]] = vec3(shGlyphHalfExtents(
-          glyphs.orders[g], glyphs.coefficients.data() + glyphs.offsets[g]));
+        const double* coefficients[kSearchGrain * 2];
+        dvec3 halfExtents[kSearchGrain * 2];
+        for (std::size_t first = range.begin(); first < range.end();)
+        {
+          // The run of one order, at most as long as the arrays.
+          const int order = glyphs.orders[missing[first]];
+          std::size_t last = first;
+          while (last < range.end() && last - first < kSearchGrain * 2 && glyphs.orders[missing[last]] == order)
+          {
+            coefficients[last - first] = glyphs.coefficients.data() + glyphs.offsets[missing[last]];
+            ++last;
+          }
+          shGlyphHalfExtents(order, last - first, coefficients, halfExtents);
+          for (std::size_t m = first; m < last; ++m)
+            Cache.halfExtents[glyphs.points[missing[m]]] = vec3(halfExtents[m - first]);
+          first = last;
+        }
       });
     if (request.progress)
       request.progress(double(end) / double(missing.size()));

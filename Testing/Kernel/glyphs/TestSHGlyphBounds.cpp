@@ -332,3 +332,36 @@ TEST(SHGlyphBounds, IntersectionPointsLieInThePaddedBox)
   EXPECT_GT(points, 5000);
 }
 } // namespace
+
+// The batched searches (four glyphs share a pass over the direction tables) give every glyph
+// the bits of the one-glyph searches, whatever the count (whole batches and a remainder) and
+// the mix of shapes within a batch.
+TEST(SHGlyphBounds, BatchedSearchesEqualOneGlyphAtATime)
+{
+  std::mt19937_64 random(800);
+  for (int order = 0; order <= 16; order += 2)
+  {
+    std::vector<std::vector<double>> glyphs;
+    for (int g = 0; g < 11; ++g)
+      glyphs.push_back(randomCoefficients(order, Family(g % 3), random));
+    std::vector<const double*> pointers;
+    for (const std::vector<double>& b : glyphs)
+      pointers.push_back(b.data());
+    for (std::size_t count : { std::size_t(0), std::size_t(3), std::size_t(8), glyphs.size() })
+    {
+      std::vector<dvec3> halfExtents(count, dvec3(-1.0));
+      std::vector<double> radii(count, -1.0);
+      sightline::shGlyphHalfExtents(order, count, pointers.data(), halfExtents.data());
+      sightline::shGlyphMaxRadius(order, count, pointers.data(), radii.data());
+      for (std::size_t g = 0; g < count; ++g)
+      {
+        const dvec3 single = shGlyphHalfExtents(order, pointers[g]);
+        for (int axis = 0; axis < 3; ++axis)
+          EXPECT_EQ(halfExtents[g][axis], single[axis])
+            << "k = " << order << ", glyph " << g << " of " << count << ", axis " << axis;
+        EXPECT_EQ(radii[g], sightline::shGlyphMaxRadius(order, pointers[g]))
+          << "k = " << order << ", glyph " << g << " of " << count;
+      }
+    }
+  }
+}

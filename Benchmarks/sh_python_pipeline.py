@@ -117,6 +117,9 @@ def main():
     parser.add_argument("--no-mask", action="store_true", help="fit every voxel, CSF included")
     parser.add_argument("--no-copy", action="store_true", help="VTK views the numpy buffer")
     parser.add_argument("--image", help="write the first image to this PNG")
+    parser.add_argument("--check", action="store_true",
+                        help="exit 1 unless every non-zero voxel is drawn, its box computed, "
+                        "and the glyphs cover part of the image (a smoke test)")
     args = parser.parse_args()
 
     start = time.perf_counter()
@@ -124,7 +127,7 @@ def main():
     fit_seconds = time.perf_counter() - start
 
     start = time.perf_counter()
-    image, _buffer = tiled_image(coefficients, args.tile, not args.no_copy)
+    image, flat = tiled_image(coefficients, args.tile, not args.no_copy)
     convert_seconds = time.perf_counter() - start
     bounds = image.GetBounds()
 
@@ -166,6 +169,7 @@ def main():
     geometry = mapper.GetLastGeometrySeconds()
     bvh = mapper.GetLastBuildSeconds()
     trace = mapper.GetLastFrameSeconds()
+    computed_boxes = mapper.GetLastComputedBoxes()
 
     grab = vtk.vtkWindowToImageFilter()
     grab.SetInput(window)
@@ -207,6 +211,20 @@ def main():
     print(f"the script from its start to the first image: {script_seconds:.3f} s")
     print(f"still frame (median of {args.runs}):       {sorted(still)[len(still) // 2]:.3f} s "
           f"(trace {sorted(traces)[len(traces) // 2]:.3f} s)")
+    if args.check:
+        expected = int(np.count_nonzero(np.any(flat != 0.0, axis=1)))
+        problems = []
+        if mapper.GetNumberOfPrimitives() != expected:
+            problems.append(f"{mapper.GetNumberOfPrimitives()} glyphs drawn, {expected} non-zero voxels")
+        if computed_boxes != expected:
+            problems.append(f"{computed_boxes} boxes computed for {expected} glyphs")
+        if not 0.0 < covered < 0.9:
+            problems.append(f"glyphs cover {100 * covered:.1f} % of the image")
+        if not all(t > 0.0 for t in traces):
+            problems.append("a still frame was not traced again")
+        for problem in problems:
+            print("check failed:", problem, file=sys.stderr)
+        return 1 if problems else 0
     return 0
 
 

@@ -337,6 +337,61 @@ SIGHTLINE_INLINE_INTO_CLONES void evaluateSHSumBatch(const T* coefficients, cons
     std::memcpy(sum + v * lanes, &total[v], sizeof(Vector));
 }
 
+/// E(w) = |h(w)| - (w^2 + eps^2)^((K+1)/2), with E'(w) in `derivative`. Along the ray
+/// E = r^(K+1) (|q| / eo - 1) (r = sqrt(w^2 + eps^2), the distance from the centre): E has the
+/// sign of P = h^2 - r^(2K+2) = E (|h| + r^(K+1)), without P's degree 2K + 2 or its squared
+/// coefficients.
+template <int K, class T>
+SIGHTLINE_INLINE_INTO_CLONES T entryFunction(const T* h, T eps2, T x, T& derivative)
+{
+  T value = h[K], slope = T(0);
+  for (int i = K - 1; i >= 0; --i)
+  {
+    slope = slope * x + value;
+    value = value * x + h[i];
+  }
+  const T r2 = x * x + eps2;
+  T rK = T(1); // r^K, K even
+  for (int i = 0; i < K / 2; ++i)
+    rK *= r2;
+  const T r = std::sqrt(r2);
+  derivative = (value < T(0) ? -slope : slope) - T(K + 1) * x * rK / r;
+  return std::abs(value) - rK * r;
+}
+
+/// The root of E in [a, b], E(a) < 0 < E(b), E changing sign once there (the entry certificate
+/// proves it), from the guess x: Newton steps that would leave the bracket become bisections,
+/// as in detail::monotonicRootFrom.
+template <int K, class T>
+SIGHTLINE_INLINE_INTO_CLONES T entryRootOnPiece(const T* h, T eps2, T a, T b, T x, T tolerance, int maxIterations)
+{
+  if (!(x > a && x < b))
+    x = T(0.5) * (a + b);
+  for (int iteration = 0; iteration < maxIterations; ++iteration)
+  {
+    T slope;
+    const T value = entryFunction<K>(h, eps2, x, slope);
+    if (value == T(0))
+      return x;
+    if (value < T(0))
+      a = x;
+    else
+      b = x;
+    const T next = x - value / slope;
+    if (next > a && next < b) // false for a zero slope and NaN too
+    {
+      if (std::abs(next - x) <= tolerance)
+        return next;
+      x = next;
+    }
+    else
+      x = T(0.5) * (a + b);
+    if (b - a <= tolerance)
+      return x;
+  }
+  return x;
+}
+
 template <int K, class T>
 SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const T d[3], T tmin,
   T tmax, T tolerance, T* t, bool firstOnly)
@@ -438,22 +493,31 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
     h[i] = g[i] * scale * power;
     power *= eps;
   }
+  // P's coefficients only where the root isolation needs them: a hit that the entry
+  // certificate below places is refined on h directly.
   constexpr int N = 2 * K + 2;
   T P[N + 1];
-  for (int i = 0; i <= N; ++i)
-    P[i] = T(0);
-  for (int i = 0; i <= K; ++i)
+  bool havePolynomial = false;
+  const auto buildPolynomial = [&]
   {
-    P[2 * i] += h[i] * h[i];
-    for (int j = i + 1; j <= K; ++j)
-      P[i + j] += T(2) * h[i] * h[j];
-  }
-  T eps2Power = T(1); // eps^(2 (k+1-j)), built from j = k+1 downwards
-  for (int j = K + 1; j >= 0; --j)
-  {
-    P[2 * j] -= tab.binomial[j] * eps2Power;
-    eps2Power *= eps2;
-  }
+    if (havePolynomial)
+      return;
+    havePolynomial = true;
+    for (int i = 0; i <= N; ++i)
+      P[i] = T(0);
+    for (int i = 0; i <= K; ++i)
+    {
+      P[2 * i] += h[i] * h[i];
+      for (int j = i + 1; j <= K; ++j)
+        P[i + j] += T(2) * h[i] * h[j];
+    }
+    T eps2Power = T(1); // eps^(2 (k+1-j)), built from j = k+1 downwards
+    for (int j = K + 1; j >= 0; --j)
+    {
+      P[2 * j] -= tab.binomial[j] * eps2Power;
+      eps2Power *= eps2;
+    }
+  };
 
   // Roots lie within the bounding circle |w| <= sqrt(1 - eps^2); the bound is attained for a
   // sphere, so widen it by a few ulps to keep those roots inside the interval.
@@ -548,13 +612,17 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
           tab.pieceHalfWidth * (std::abs(second) + m * m * heightRounding) - tab.pieceCubic * heightBound;
         if (slope > T(0))
         {
-          const T fa = evaluatePolynomial<N>(P, w[cut]), fb = evaluatePolynomial<N>(P, w[cut - 1]);
+          // The one root of P in the piece is the one sign change of E (same sign as P), whose
+          // ends must agree with the certificate in E's own rounding too.
+          T unused;
+          const T fa = entryFunction<K>(h, eps2, w[cut], unused);
+          const T fb = entryFunction<K>(h, eps2, w[cut - 1], unused);
           if (fa < T(0) && fb > T(0))
           {
             // q is monotonic on the piece and much closer to linear than P: start where
             // the line through its ends meets eo.
             const T start = w[cut] + (eo - std::abs(a)) / (std::abs(b) - std::abs(a)) * (w[cut - 1] - w[cut]);
-            entryRoot = detail::monotonicRootFrom<N>(P, w[cut], w[cut - 1], fa, start,
+            entryRoot = entryRootOnPiece<K>(h, eps2, w[cut], w[cut - 1], start,
               tolerance * std::max(wmax, eps), kRootIterationLimit);
             entryEnd = w[cut - 1];
             entryFound = true;
@@ -589,6 +657,7 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
   const T rootTolerance = tolerance * std::max(wmax, eps);
   const auto rootsIn = [&](T from, T to, T* found, bool first)
   {
+    buildPolynomial();
     if constexpr (sizeof(T) >= sizeof(double))
       return polynomialRootsSubdivision<N, T>(P, from, to, rootTolerance, found, first);
     else

@@ -563,7 +563,7 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
   // above, on the shorter piece) is passed; the first that may must end certainly inside,
   // with q monotonic on it (its change exceeds what q'' allows for a turn). Then |q| = eo
   // exactly once in that piece, so the nearest root is the only root of P in its w-interval
-  // and needs no root isolation. Otherwise (grazing rays, thin lobes, a ray starting inside)
+  // and needs no root isolation (nor P: it is refined on E, entryFunction). Otherwise (grazing rays, thin lobes, a ray starting inside)
   // the isolation below finds it. If every piece is passed, the ray misses.
   bool entryFound = false;
   T entryRoot = T(0), entryEnd = T(0);

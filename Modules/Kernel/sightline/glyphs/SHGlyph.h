@@ -55,13 +55,15 @@ dvec3 shGlyphNormal(int order, const double* coefficients, const dvec3& p, doubl
 bool insideSHGlyph(int order, const double* coefficients, const dvec3& p);
 
 /// Near-exact axis-aligned half extents of the glyph (Section 4.2): the largest |coordinate| of
-/// F(w) w over k * 256 spherical Fibonacci directions w, refined by five Newton steps on the
-/// tangency conditions for each axis, then enlarged by 2.5 % (k <= 8) or 3.5 % (k >= 10), the
-/// margins the paper validated. The glyph is point symmetric, so the box is [-h, h].
+/// F(w) w over k * 256 spherical Fibonacci directions w, refined by up to five Newton steps on
+/// the tangency conditions for each axis (fewer once a step is below 1e-5), then enlarged by
+/// 2.5 % (k <= 8) or 3.5 % (k >= 10), the margins the paper validated. The glyph is point
+/// symmetric, so the box is [-h, h].
 dvec3 shGlyphHalfExtents(int order, const double* coefficients);
 /// The same for `count` glyphs of one order: halfExtents[g] is shGlyphHalfExtents(order,
 /// coefficients[g]), bit for bit; groups of four glyphs share one pass over the directions.
-void shGlyphHalfExtents(int order, std::size_t count, const double* const* coefficients, dvec3* halfExtents);
+void shGlyphHalfExtents(
+  int order, std::size_t count, const double* const* coefficients, dvec3* halfExtents);
 /// The same without the safety margin (what the validation test compares).
 dvec3 shGlyphHalfExtentsUnpadded(int order, const double* coefficients);
 
@@ -71,7 +73,8 @@ dvec3 shGlyphHalfExtentsUnpadded(int order, const double* coefficients);
 double shGlyphMaxRadius(int order, const double* coefficients);
 /// The same for `count` glyphs of one order (radii[g] bit for bit as one at a time; groups of
 /// four share one pass over the directions).
-void shGlyphMaxRadius(int order, std::size_t count, const double* const* coefficients, double* radii);
+void shGlyphMaxRadius(
+  int order, std::size_t count, const double* const* coefficients, double* radii);
 
 /// Radius of a sphere that certainly contains the glyph: sum_j |b_j| max|Y_j| (the bound of
 /// Peeters et al. 2009 that ray-marching baselines use).

@@ -46,9 +46,14 @@ void Framebuffer::resize(int width, int height)
 
 void Framebuffer::clear()
 {
-  std::fill(Color.begin(), Color.end(), vec4(0.0f));
-  std::fill(Depth.begin(), Depth.end(), 1.0f);
-  std::fill(Distance.begin(), Distance.end(), kInfinity);
+  // In parallel: every frame starts here (50 MB at 1920x1080), on the caller's thread.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, Color.size(), 1 << 15),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      std::fill(Color.begin() + range.begin(), Color.begin() + range.end(), vec4(0.0f));
+      std::fill(Depth.begin() + range.begin(), Depth.begin() + range.end(), 1.0f);
+      std::fill(Distance.begin() + range.begin(), Distance.begin() + range.end(), kInfinity);
+    });
   std::fill(Primitives.begin(), Primitives.end(), PixelPrimitive{});
 }
 

@@ -24,7 +24,6 @@ using namespace sightline_test;
 
 namespace
 {
-const double Black[3] = { 0, 0, 0 };
 const double NaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Probe

@@ -49,7 +49,6 @@ using namespace sightline_test;
 
 namespace
 {
-const double Black[3] = { 0, 0, 0 };
 constexpr int Size = 64;
 
 // Every message VTK prints (errors and warnings of objects nobody observes, e.g. a pipeline's

@@ -126,7 +126,7 @@ bool CylindricalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin
 
   const int first[3] = { radialStart, heightStart, azimuthStart };
   const int counts[3] = { Grid.radialCells(), nz, Grid.azimuthalCells() };
-  crossed = traversal::sealCrossings(first, scratch.lists, counts, tmin, tmax);
+  traversal::sealCrossings(first, scratch.lists, counts, tmin, tmax, crossed);
   return true;
 }
 

@@ -84,6 +84,11 @@ AzimuthSweep::AzimuthSweep(const std::vector<double>& azimuth)
 {
   for (double phi : Azimuth)
     HalfPlanes.push_back(dvec3(std::cos(phi), std::sin(phi), phi));
+  // phi_k + (lap - 1) 2 pi for laps 0, 1, 2 (a full circle's last breakpoint is its first).
+  const int perLap = FullCircle ? int(Azimuth.size()) - 1 : int(Azimuth.size());
+  for (int lap = 0; lap < 3; ++lap)
+    for (int k = 0; k < perLap; ++k)
+      Laps.push_back(Azimuth[std::size_t(k)] + (lap - 1) * kTwoPi);
 }
 
 int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, double tmax,
@@ -107,100 +112,85 @@ int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, doubl
       b -= kTwoPi;
     return phi0 + b;
   };
-  auto azimuthIndex = [&](double phi)
+  const double turn = p.x * d.y - p.y * d.x; // (p x d).z
+  const double dxy = d.x * d.x + d.y * d.y;
+  const double scaleXY = std::sqrt((p.x * p.x + p.y * p.y) * dxy);
+  const bool throughAxis = dxy > 0.0 && std::abs(turn) <= 1e-14 * scaleXY;
+  const double tAxis = dxy > 0.0 ? -(p.x * d.x + p.y * d.y) / dxy : 0.0;
+  // A line through the z axis has azimuth atan2(-d) before the axis and atan2(d) after it,
+  // exactly, whatever rounding leaves of the points next to the axis. A vertical line keeps
+  // its azimuth (0 by convention on the axis itself).
+  const double phiStart = throughAxis ? (tAxis > tmin ? unwrap(-d) : unwrap(d)) : unwrap(start);
+  // The wedge: Azimuth[k] <= phiStart < Azimuth[k + 1] (the last breakpoint of a full circle is
+  // its first).
+  int azimuthStart = int(std::upper_bound(Azimuth.begin(), Azimuth.end(), phiStart) - Azimuth.begin()) - 1;
+  if (azimuthStart >= azimuthCount - 1)
+    azimuthStart = FullCircle ? azimuthCount - 2 : -1;
+  if (!(dxy > 0.0))
+    return azimuthStart;
+
+  // The half-planes' angles over three laps (Laps) form one increasing sequence; the start
+  // lies in the middle lap, and the first of them past it follows its wedge's. Walk from there
+  // in the sweep's direction while the segment's end lies past the next half-plane: the sign of
+  // (h x end).z, h = (cos phi_k, sin phi_k), which is the crossing's own test (crossAt solves
+  // (h x (p + t d)).z = 0), with no atan2 for the end. The sweep is under pi, so only
+  // half-planes less than pi from the start can be reached (beyond, the sign test would read
+  // the opposite half-plane).
+  const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
+  const int firstPast = perLap + (azimuthStart >= 0 ? azimuthStart + 1 : perLap);
+  auto crossAt = [&](int k)
   {
-    const int k = int(std::upper_bound(Azimuth.begin(), Azimuth.end(), phi) - Azimuth.begin()) - 1;
-    if (k >= azimuthCount - 1)
-      return FullCircle ? azimuthCount - 2 : -1;
-    return k;
-  };
-  int azimuthStart = 0;
-  {
-    const double turn = p.x * d.y - p.y * d.x; // (p x d).z
-    const double dxy = d.x * d.x + d.y * d.y;
-    const double scaleXY = std::sqrt((p.x * p.x + p.y * p.y) * dxy);
-    const bool throughAxis = dxy > 0.0 && std::abs(turn) <= 1e-14 * scaleXY;
-    const double tAxis = dxy > 0.0 ? -(p.x * d.x + p.y * d.y) / dxy : 0.0;
-    // A line through the z axis has azimuth atan2(-d) before the axis and atan2(d) after it,
-    // exactly, whatever rounding leaves of the points next to the axis. A vertical line keeps
-    // its azimuth (0 by convention on the axis itself).
-    double phiStart;
+    const dvec3& h = HalfPlanes[std::size_t(k)];
     if (throughAxis)
-      phiStart = tAxis > tmin ? unwrap(-d) : unwrap(d);
-    else
-      phiStart = unwrap(start);
-    azimuthStart = azimuthIndex(phiStart);
-    if (dxy > 0.0)
+      return tAxis;
+    const double denominator = d.y * h.x - d.x * h.y;
+    return denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
+  };
+  auto side = [&](int k) // > 0 where the end lies counterclockwise of half-plane k
+  {
+    const dvec3& h = HalfPlanes[std::size_t(k)];
+    return h.x * end.y - h.y * end.x;
+  };
+  const double* laps = Laps.data();
+  if (throughAxis)
+  {
+    // The jump by pi, taken as a rise, when the axis lies inside the segment.
+    const double phiEnd = tAxis > tmin && tAxis < tmax ? phiStart + kPi : phiStart;
+    for (int v = firstPast; v < 3 * perLap && laps[v] <= phiEnd; ++v)
     {
-      double phiEnd;
-      bool rising;
-      if (throughAxis)
-      {
-        rising = true; // the jump by pi, taken as a rise
-        phiEnd = tAxis > tmin && tAxis < tmax ? phiStart + kPi : phiStart;
-      }
-      else
-      {
-        rising = turn > 0.0;
-        double phiEndRaw = unwrap(end);
-        // The sweep is under pi: unwrap the end next to the start, in the sweep's direction.
-        if (rising && phiEndRaw < phiStart)
-          phiEndRaw += kTwoPi;
-        if (!rising && phiEndRaw > phiStart)
-          phiEndRaw -= kTwoPi;
-        phiEnd = phiEndRaw;
-      }
-      // Boundaries strictly between the two azimuths, in sweep order, as unwrapped angles.
-      // The half-planes' angles over three laps, phi_k + lap 2 pi (the full circle's last
-      // breakpoint is its first), form one increasing sequence: binary search for the first
-      // one past the start, then walk in the sweep's direction to the end.
-      const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
-      auto lapOf = [&](int v) { return int(v >= perLap) + int(v >= 2 * perLap); };
-      auto angleOf = [&](int v)
-      {
-        const int lap = lapOf(v);
-        return Azimuth[std::size_t(v - lap * perLap)] + (lap - 1) * kTwoPi;
-      };
-      int lo = 0, hi = 3 * perLap; // first v with angle > phiStart
-      while (lo < hi)
-      {
-        const int mid = (lo + hi) / 2;
-        if (angleOf(mid) > phiStart)
-          hi = mid;
-        else
-          lo = mid + 1;
-      }
-      auto crossAt = [&](int k)
-      {
-        const dvec3& h = HalfPlanes[std::size_t(k)];
-        if (throughAxis)
-          return tAxis;
-        const double denominator = d.y * h.x - d.x * h.y;
-        return denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
-      };
-      // A start exactly on phi_k counts as wedge k: rising it stays, falling it leaves.
-      // Rising through phi_k enters wedge k; falling through it enters wedge k - 1.
-      if (rising)
-        for (int v = lo; v < 3 * perLap && angleOf(v) <= phiEnd; ++v)
-        {
-          const int k = v - lapOf(v) * perLap;
-          out.push({ crossAt(k), k == azimuthCount - 1 ? -1 : k });
-        }
-      else
-        for (int v = lo - 1; v >= 0 && angleOf(v) >= phiEnd; --v)
-        {
-          const int k = v - lapOf(v) * perLap;
-          out.push({ crossAt(k), k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1 });
-        }
-      clampAscending(out, tmin, tmax);
+      const int k = v % perLap;
+      out.push({ tAxis, k == azimuthCount - 1 ? -1 : k });
     }
   }
+  else if (turn > 0.0)
+  {
+    // Rising through phi_k enters wedge k (none past a section's last breakpoint).
+    for (int v = firstPast; v < 3 * perLap && laps[v] - phiStart < kPi; ++v)
+    {
+      const int k = v % perLap;
+      if (side(k) < 0.0)
+        break;
+      out.push({ crossAt(k), k == azimuthCount - 1 ? -1 : k });
+    }
+  }
+  else
+  {
+    // Falling through phi_k enters wedge k - 1; a start exactly on phi_k leaves through it.
+    for (int v = firstPast - 1; v >= 0 && phiStart - laps[v] < kPi; --v)
+    {
+      const int k = v % perLap;
+      if (side(k) >= 0.0)
+        break;
+      out.push({ crossAt(k), k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1 });
+    }
+  }
+  clampAscending(out, tmin, tmax);
   return azimuthStart;
 }
 
-Crossings sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin, double tmax)
+void sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin,
+  double tmax, Crossings& c)
 {
-  Crossings c;
   for (int list = 0; list < 3; ++list)
   {
     lists[list].push({ std::numeric_limits<double>::infinity(), 0 });
@@ -210,7 +200,6 @@ Crossings sealCrossings(const int first[3], TransitionList lists[3], const int c
   }
   c.tmin = tmin;
   c.tmax = tmax;
-  return c;
 }
 } // namespace traversal
 } // namespace sightline

@@ -88,11 +88,13 @@ public:
 private:
   std::vector<double> Azimuth;
   std::vector<dvec3> HalfPlanes; ///< (cos phi_k, sin phi_k, phi_k)
+  std::vector<double> Laps;      ///< the breakpoints over three turns, increasing
   bool FullCircle = false;
 };
 
 /// The three ascending transition lists ready to merge (CellCrossings.h): appends the sentinel
-/// to each.
-Crossings sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin, double tmax);
+/// to each and fills `out` in place (a returned copy cost a store-forwarding stall per ray).
+void sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin,
+  double tmax, Crossings& out);
 } // namespace traversal
 } // namespace sightline

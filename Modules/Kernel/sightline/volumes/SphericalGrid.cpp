@@ -196,7 +196,7 @@ bool SphericalTraversal::crossings(const dvec3& p, const dvec3& d, double tmin, 
   // Merge the three ascending lists, emitting the pieces inside the section.
   const int first[3] = { radialStart, polarStart, azimuthStart };
   const int counts[3] = { Grid.radialCells(), Grid.polarCells(), Grid.azimuthalCells() };
-  crossed = traversal::sealCrossings(first, scratch.lists, counts, tmin, tmax);
+  traversal::sealCrossings(first, scratch.lists, counts, tmin, tmax, crossed);
   return true;
 }
 

@@ -78,110 +78,129 @@ int radialTransitions(const std::vector<double>& radius, const std::vector<doubl
   return first;
 }
 
-AzimuthSweep::AzimuthSweep(const std::vector<double>& azimuth)
-  : Azimuth(azimuth)
-  , FullCircle(spansFullCircle(azimuth))
+namespace
 {
-  for (double phi : Azimuth)
-    HalfPlanes.push_back(dvec3(std::cos(phi), std::sin(phi), phi));
-  // phi_k + (lap - 1) 2 pi for laps 0, 1, 2 (a full circle's last breakpoint is its first).
-  const int perLap = FullCircle ? int(Azimuth.size()) - 1 : int(Azimuth.size());
-  for (int lap = 0; lap < 3; ++lap)
-    for (int k = 0; k < perLap; ++k)
-      Laps.push_back(Azimuth[std::size_t(k)] + (lap - 1) * kTwoPi);
+/// A monotone stand-in for the angle of (x, y) != 0 in [0, 4): one division, no atan2. Only
+/// locates a first guess among the half-planes; the sign tests decide.
+double diamondAngle(double x, double y)
+{
+  if (y >= 0.0)
+    return x > 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+  return x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+}
+} // namespace
+
+AzimuthSweep::AzimuthSweep(const std::vector<double>& azimuth)
+  : FullCircle(spansFullCircle(azimuth))
+{
+  // The half-planes once around from phi_0 (a full circle's last breakpoint is its first), with
+  // extra ones that change no index wherever two are more than pi / 2 apart (the section's gap,
+  // coarse wedges): sign tests against neighbouring half-planes then tell where a point lies.
+  const int real = FullCircle ? int(azimuth.size()) - 1 : int(azimuth.size());
+  const double phi0 = azimuth.front();
+  const double d0 = diamondAngle(std::cos(phi0), std::sin(phi0));
+  for (int k = 0; k < real; ++k)
+  {
+    const double next = k + 1 < real ? azimuth[std::size_t(k) + 1] : phi0 + kTwoPi;
+    const int pieces = std::max(1, int(std::ceil((next - azimuth[std::size_t(k)]) / (0.5 * kPi))));
+    const int wedge = k == int(azimuth.size()) - 1 ? -1 : k; // past a section's last: none
+    for (int piece = 0; piece < pieces; ++piece)
+    {
+      const double phi = azimuth[std::size_t(k)] + (next - azimuth[std::size_t(k)]) * piece / pieces;
+      HalfPlane h;
+      h.x = std::cos(phi);
+      h.y = std::sin(phi);
+      h.wedge = wedge;
+      h.crossed = piece == 0;
+      double pseudo = diamondAngle(h.x, h.y) - d0;
+      if (pseudo < 0.0)
+        pseudo += 4.0;
+      Pseudo.push_back(HalfPlanes.empty() ? 0.0 : std::max(Pseudo.back(), pseudo));
+      HalfPlanes.push_back(h);
+    }
+  }
+  PseudoStart = d0;
+}
+
+int AzimuthSweep::locate(double x, double y) const
+{
+  // On the z axis itself the azimuth is 0 by convention.
+  if (x == 0.0 && y == 0.0)
+    x = 1.0;
+  const int n = int(HalfPlanes.size());
+  double pseudo = diamondAngle(x, y) - PseudoStart;
+  if (pseudo < 0.0)
+    pseudo += 4.0;
+  int s = std::max(0, int(std::upper_bound(Pseudo.begin(), Pseudo.end(), pseudo) - Pseudo.begin()) - 1);
+  // The guess is at most a rounding away: settle it on the sign tests, the crossings' own
+  // (a point on a half-plane belongs to the wedge it opens).
+  auto side = [&](int k) { return HalfPlanes[std::size_t(k)].x * y - HalfPlanes[std::size_t(k)].y * x; };
+  for (int step = 0; step < n; ++step)
+  {
+    if (side(s) < 0.0)
+      s = s == 0 ? n - 1 : s - 1;
+    else if (const int next = s + 1 == n ? 0 : s + 1; side(next) >= 0.0)
+      s = next;
+    else
+      break;
+  }
+  return s;
 }
 
 int AzimuthSweep::transitions(const dvec3& p, const dvec3& d, double tmin, double tmax,
   const dvec3& start, const dvec3& end, TransitionList& out) const
 {
-  const int azimuthCount = int(HalfPlanes.size());
-  out.reset(3 * std::size_t(azimuthCount) + 1); // the walk covers at most three laps
-  const double phi0 = HalfPlanes.front().z;
-  auto unwrap = [&](const dvec3& x)
-  {
-    // phi0 + ((phi - phi0) mod 2 pi), in [phi0, phi0 + 2 pi). When phi is within a turn of
-    // phi0 (always, for grids whose azimuths start in (-pi, pi)) two exact subtractions give
-    // fmod's bits; otherwise fmod.
-    const double a = std::atan2(x.y, x.x) - phi0;
-    if (!(std::abs(a) < kTwoPi))
-      return phi0 + std::fmod(std::fmod(a, kTwoPi) + kTwoPi, kTwoPi);
-    double b = a + kTwoPi;
-    if (b >= kTwoPi)
-      b -= kTwoPi;
-    if (b >= kTwoPi)
-      b -= kTwoPi;
-    return phi0 + b;
-  };
+  const int n = int(HalfPlanes.size());
+  out.reset(std::size_t(n) + 1);
   const double turn = p.x * d.y - p.y * d.x; // (p x d).z
   const double dxy = d.x * d.x + d.y * d.y;
   const double scaleXY = std::sqrt((p.x * p.x + p.y * p.y) * dxy);
   const bool throughAxis = dxy > 0.0 && std::abs(turn) <= 1e-14 * scaleXY;
   const double tAxis = dxy > 0.0 ? -(p.x * d.x + p.y * d.y) / dxy : 0.0;
-  // A line through the z axis has azimuth atan2(-d) before the axis and atan2(d) after it,
-  // exactly, whatever rounding leaves of the points next to the axis. A vertical line keeps
-  // its azimuth (0 by convention on the axis itself).
-  const double phiStart = throughAxis ? (tAxis > tmin ? unwrap(-d) : unwrap(d)) : unwrap(start);
-  // The wedge: Azimuth[k] <= phiStart < Azimuth[k + 1] (the last breakpoint of a full circle is
-  // its first).
-  int azimuthStart = int(std::upper_bound(Azimuth.begin(), Azimuth.end(), phiStart) - Azimuth.begin()) - 1;
-  if (azimuthStart >= azimuthCount - 1)
-    azimuthStart = FullCircle ? azimuthCount - 2 : -1;
-  if (!(dxy > 0.0))
+  // A line through the z axis has the azimuth of -d before the axis and of d after it, exactly,
+  // whatever rounding leaves of the points next to the axis. A vertical line keeps its azimuth.
+  const bool beforeAxis = throughAxis && tAxis > tmin;
+  const int slot = throughAxis ? (beforeAxis ? locate(-d.x, -d.y) : locate(d.x, d.y)) : locate(start.x, start.y);
+  const int azimuthStart = HalfPlanes[std::size_t(slot)].wedge;
+  if (!(dxy > 0.0) || (throughAxis && !(beforeAxis && tAxis < tmax)))
     return azimuthStart;
 
-  // The half-planes' angles over three laps (Laps) form one increasing sequence; the start
-  // lies in the middle lap, and the first of them past it follows its wedge's. Walk from there
-  // in the sweep's direction while the segment's end lies past the next half-plane: the sign of
-  // (h x end).z, h = (cos phi_k, sin phi_k), which is the crossing's own test (crossAt solves
-  // (h x (p + t d)).z = 0), with no atan2 for the end. The sweep is under pi, so only
-  // half-planes less than pi from the start can be reached (beyond, the sign test would read
-  // the opposite half-plane).
-  const int perLap = FullCircle ? azimuthCount - 1 : azimuthCount;
-  const int firstPast = perLap + (azimuthStart >= 0 ? azimuthStart + 1 : perLap);
+  // Walk the half-planes in the sweep's direction while the segment's end lies past the next
+  // one: the sign of (h x end).z, the crossing's own test (crossAt solves (h x (p + t d)).z =
+  // 0). Neighbours are under pi / 2 apart and the sweep is under pi, so the first half-plane
+  // the end does not pass ends the walk. A line through the axis jumps by pi there: the end's
+  // azimuth is d's.
+  const double ex = throughAxis ? d.x : end.x, ey = throughAxis ? d.y : end.y;
+  auto side = [&](int k) { return HalfPlanes[std::size_t(k)].x * ey - HalfPlanes[std::size_t(k)].y * ex; };
   auto crossAt = [&](int k)
   {
-    const dvec3& h = HalfPlanes[std::size_t(k)];
+    const HalfPlane& h = HalfPlanes[std::size_t(k)];
     if (throughAxis)
       return tAxis;
     const double denominator = d.y * h.x - d.x * h.y;
     return denominator != 0.0 ? (p.x * h.y - p.y * h.x) / denominator : tAxis;
   };
-  auto side = [&](int k) // > 0 where the end lies counterclockwise of half-plane k
+  if (throughAxis || turn > 0.0)
   {
-    const dvec3& h = HalfPlanes[std::size_t(k)];
-    return h.x * end.y - h.y * end.x;
-  };
-  const double* laps = Laps.data();
-  if (throughAxis)
-  {
-    // The jump by pi, taken as a rise, when the axis lies inside the segment.
-    const double phiEnd = tAxis > tmin && tAxis < tmax ? phiStart + kPi : phiStart;
-    for (int v = firstPast; v < 3 * perLap && laps[v] <= phiEnd; ++v)
+    // Rising through a half-plane enters the wedge it opens.
+    for (int step = 1, k = slot; step < n; ++step)
     {
-      const int k = v % perLap;
-      out.push({ tAxis, k == azimuthCount - 1 ? -1 : k });
-    }
-  }
-  else if (turn > 0.0)
-  {
-    // Rising through phi_k enters wedge k (none past a section's last breakpoint).
-    for (int v = firstPast; v < 3 * perLap && laps[v] - phiStart < kPi; ++v)
-    {
-      const int k = v % perLap;
+      k = k + 1 == n ? 0 : k + 1;
       if (side(k) < 0.0)
         break;
-      out.push({ crossAt(k), k == azimuthCount - 1 ? -1 : k });
+      if (HalfPlanes[std::size_t(k)].crossed)
+        out.push({ crossAt(k), HalfPlanes[std::size_t(k)].wedge });
     }
   }
   else
   {
-    // Falling through phi_k enters wedge k - 1; a start exactly on phi_k leaves through it.
-    for (int v = firstPast - 1; v >= 0 && phiStart - laps[v] < kPi; --v)
+    // Falling through one enters the wedge before it; a start exactly on it leaves at once.
+    for (int step = 0, k = slot; step < n; ++step, k = k == 0 ? n - 1 : k - 1)
     {
-      const int k = v % perLap;
       if (side(k) >= 0.0)
         break;
-      out.push({ crossAt(k), k == 0 ? (FullCircle ? azimuthCount - 2 : -1) : k - 1 });
+      if (HalfPlanes[std::size_t(k)].crossed)
+        out.push({ crossAt(k), HalfPlanes[std::size_t(k == 0 ? n - 1 : k - 1)].wedge });
     }
   }
   clampAscending(out, tmin, tmax);

@@ -73,7 +73,10 @@ int radialTransitions(const std::vector<double>& radius, const std::vector<doubl
   double tClosest, double closestDistance, double dd, double tmin, double tmax, double startSquared,
   double endSquared, TransitionList& out, ScratchList<double>& halfChords);
 
-/// Wedges between half-planes through the z axis at the azimuth breakpoints.
+/// Wedges between half-planes through the z axis at the azimuth breakpoints. Points are placed
+/// by the sign of (h x point).z against the half-planes h = (cos phi_k, sin phi_k), the same
+/// test the crossings solve, so a ray's wedges and crossings agree to the last bit, and no
+/// atan2 is taken.
 class AzimuthSweep
 {
 public:
@@ -86,9 +89,18 @@ public:
     const dvec3& end, TransitionList& out) const;
 
 private:
-  std::vector<double> Azimuth;
-  std::vector<dvec3> HalfPlanes; ///< (cos phi_k, sin phi_k, phi_k)
-  std::vector<double> Laps;      ///< the breakpoints over three turns, increasing
+  struct HalfPlane
+  {
+    double x, y;  ///< cos phi, sin phi
+    int wedge;    ///< the wedge it opens (counterclockwise of it); -1 in a section's gap
+    bool crossed; ///< a breakpoint (false: added to split a gap wider than pi / 2)
+  };
+  /// The half-plane opening the wedge that holds (x, y).
+  int locate(double x, double y) const;
+
+  std::vector<HalfPlane> HalfPlanes; ///< once around, counterclockwise from phi_0
+  std::vector<double> Pseudo;        ///< their diamond angles from phi_0's, for a first guess
+  double PseudoStart = 0.0;
   bool FullCircle = false;
 };
 

@@ -71,6 +71,10 @@ struct RayTables
   /// [i][kEntryCuts j + p] for piece p of [theta_j, theta_(j+1)] (per order: K + 1 rows).
   std::vector<T> pieceFirst, pieceSecond;
   int pieceStride = 0;
+  /// The basis at a piece's quarter points, [i][3 (kEntryCuts j + p) + s] at theta_j + (p + (s +
+  /// 1) / 4) pi / (kEntryCuts M): a piece that may reach eo but ends outside is checked on its
+  /// quarters (a sixteenth of its curvature margin) before the certificate gives up.
+  std::vector<T> pieceQuarters;
   /// On a piece of width delta, |q'(theta)| >= |q'(mid)| - (delta / 2) |q''(mid)| - delta^2 /
   /// 8 max|q'''|, and |q'''| <= m^3 max|q| (Bernstein): pieceHalfWidth = delta / 2,
   /// pieceCubic = delta^2 m^3 / 8 (with a relative margin against rounding).
@@ -185,6 +189,16 @@ struct RayTables
             term(i * (n + 1.0L) + n * (i + 1.0L), i, n) + term(n * (n - 1.0L), i + 2, n - 2));
         }
       }
+      pieceQuarters.assign(std::size_t(k + 1) * 3 * pieceStride, T(0));
+      for (int slot = 0; slot < pieceStride; ++slot)
+        for (int quarter = 0; quarter < 3; ++quarter)
+        {
+          const long double angle = (0.5L + (slot + (quarter + 1) / 4.0L) / kEntryCuts) * kPiLong / heightSamples;
+          powers(std::cos(angle), cosPower);
+          powers(std::sin(angle), sinPower);
+          for (int i = 0; i <= k; ++i)
+            pieceQuarters[(std::size_t(i) * pieceStride + slot) * 3 + quarter] = T(cosPower[i] * sinPower[k + 1 - i]);
+        }
     }
     const long double curvature = m * m * kPiLong * kPiLong / (8.0L * heightSamples * heightSamples);
     heightCurvature = T(curvature);
@@ -571,6 +585,7 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
   {
     constexpr int cuts = RayTables<T>::kEntryCuts;
     const T fineMargin = tab.heightCurvature / T(cuts * cuts) * heightBound + heightRounding;
+    const T quarterMargin = tab.heightCurvature / T(16 * cuts * cuts) * heightBound + heightRounding;
     bool decided = false;
     for (int j = entryInterval; j >= exitInterval && !decided; --j)
     {
@@ -594,6 +609,22 @@ SIGHTLINE_INLINE_INTO_CLONES int intersectOrder(const T* b, const T o[3], const 
         const T a = value[cut], b = value[cut - 1];
         if (std::max(std::abs(a), std::abs(b)) + fineMargin < eo)
           continue; // this piece cannot reach eo
+        // A piece that may reach eo but ends certainly outside (its curvature margin is
+        // wide): passed when its quarters show that it cannot reach eo after all.
+        if (std::abs(a) + heightRounding < eo && std::abs(b) + heightRounding < eo)
+        {
+          const std::size_t slot = std::size_t(cuts * j + cut - 1);
+          T quarters[3] = { T(0), T(0), T(0) };
+          for (int i = 0; i <= K; ++i)
+            for (int quarter = 0; quarter < 3; ++quarter)
+              quarters[quarter] += g[i] * tab.pieceQuarters[(std::size_t(i) * tab.pieceStride + slot) * 3 + quarter];
+          const T along[5] = { b, quarters[0], quarters[1], quarters[2], a };
+          bool passed = true;
+          for (int quarter = 0; quarter < 4; ++quarter)
+            passed = passed && std::max(std::abs(along[quarter]), std::abs(along[quarter + 1])) + quarterMargin < eo;
+          if (passed)
+            continue;
+        }
         decided = true;
         if (!(std::abs(a) + heightRounding < eo && std::abs(b) - heightRounding > eo &&
               w[cut] >= lo && w[cut - 1] <= hi))

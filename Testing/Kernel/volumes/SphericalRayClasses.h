@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace sightline_test
 {
@@ -59,12 +60,18 @@ void forEachRayClass(const sightline::SphericalGrid& grid, Visit visit)
     visit("grazing a cone", 1.1 * g - dvec3(0, far, 0), dvec3(0, 1, 0), 0.0, 2.0 * far, false);
     visit("along a cone's generator", dvec3(0.0), g, -far, far, true);
   }
+  // The middle of the second cell along an axis (of the first where there is only one).
+  auto middle = [](const std::vector<double>& b)
+  {
+    const std::size_t i = std::min<std::size_t>(1, b.size() - 2);
+    return 0.5 * (b[i] + b[i + 1]);
+  };
   for (int i = 0; i < 40; ++i) // starting inside the domain
   {
     const dvec3 d = direction();
-    const double r = 0.5 * (grid.radius[1] + grid.radius[2]);
-    const double theta = 0.5 * (grid.polar[1] + grid.polar[2]);
-    const double phi = 0.5 * (grid.azimuth[1] + grid.azimuth[2]);
+    const double r = middle(grid.radius);
+    const double theta = middle(grid.polar);
+    const double phi = middle(grid.azimuth);
     const dvec3 o = r * dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
     visit("starting inside", o, d, 0.0, far, false);
   }

@@ -105,7 +105,7 @@ private:
 };
 
 /// The three ascending transition lists ready to merge (CellCrossings.h): appends the sentinel
-/// to each and fills `out` in place (a returned copy cost a store-forwarding stall per ray).
+/// to each and fills `out` in place.
 void sealCrossings(const int first[3], TransitionList lists[3], const int counts[3], double tmin,
   double tmax, Crossings& out);
 } // namespace traversal

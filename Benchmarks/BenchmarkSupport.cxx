@@ -14,7 +14,7 @@
 
 #include "sightline/core/Framebuffer.h"
 
-#include <embree3/rtcore_config.h>
+#include "sightline/core/EmbreeApi.h" // RTC_VERSION_STRING
 #include <tbb/task_arena.h>
 
 #include <algorithm>

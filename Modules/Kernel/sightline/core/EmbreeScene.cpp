@@ -180,10 +180,8 @@ RTCRayHit makeRayHit(const Ray& ray)
 bool EmbreeScene::intersect(RTCRayHit& rayhit, bool coherent) const
 {
   TraceContext context;
-  rtcInitIntersectContext(&context.embree);
-  if (coherent)
-    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect1(Scene, &context.embree, &rayhit);
+  embree::initContext(context.embree);
+  embree::intersect1(Scene, context.embree, rayhit, coherent);
   return rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
 
@@ -192,7 +190,7 @@ namespace
 /// A context whose primitives intersect `trace.ray` while Embree traverses its float rounding.
 void initDoubleTrace(TraceContext& context, DoubleRayTrace& trace, const DoubleRay& ray)
 {
-  rtcInitIntersectContext(&context.embree);
+  embree::initContext(context.embree);
   trace.ray = ray;
   context.doubleRays = &trace;
 }
@@ -209,17 +207,20 @@ void readHit(const DoubleRayTrace& trace, unsigned geomID, unsigned primID, floa
   hit.primID = primID;
 }
 
-void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitNt<4>& rh)
+void intersectNative(const int* valid, RTCScene scene, embree::QueryContext& context,
+  RTCRayHitNt<4>& rh, bool coherent)
 {
-  rtcIntersect4(valid, scene, context, reinterpret_cast<RTCRayHit4*>(&rh));
+  embree::intersect4(valid, scene, context, reinterpret_cast<RTCRayHit4&>(rh), coherent);
 }
-void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitNt<8>& rh)
+void intersectNative(const int* valid, RTCScene scene, embree::QueryContext& context,
+  RTCRayHitNt<8>& rh, bool coherent)
 {
-  rtcIntersect8(valid, scene, context, reinterpret_cast<RTCRayHit8*>(&rh));
+  embree::intersect8(valid, scene, context, reinterpret_cast<RTCRayHit8&>(rh), coherent);
 }
-void intersectNative(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHitNt<16>& rh)
+void intersectNative(const int* valid, RTCScene scene, embree::QueryContext& context,
+  RTCRayHitNt<16>& rh, bool coherent)
 {
-  rtcIntersect16(valid, scene, context, reinterpret_cast<RTCRayHit16*>(&rh));
+  embree::intersect16(valid, scene, context, reinterpret_cast<RTCRayHit16&>(rh), coherent);
 }
 
 /// Fills lanes [0, count) of a K-wide packet with the float rounding of the active rays (ray id
@@ -265,10 +266,10 @@ struct PacketTrace
   PacketTrace(const DoubleRay* rays, const bool* active, int count)
   {
     fillPacket<K>(rh, valid, traces, rays, active, count);
-    rtcInitIntersectContext(&context.embree);
+    embree::initContext(context.embree);
     context.doubleRays = traces;
   }
-  void trace(RTCScene scene) { intersectNative(valid, scene, &context.embree, rh); }
+  void trace(RTCScene scene, bool coherent) { intersectNative(valid, scene, context.embree, rh, coherent); }
 };
 
 /// Traces rays[0, count) (count <= K) as one Embree packet of K lanes for their nearest hits.
@@ -277,9 +278,7 @@ void intersectPacketOf(RTCScene scene, const DoubleRay* rays, const bool* active
   SceneHit* hits, bool* found, bool coherent)
 {
   PacketTrace<K> packet(rays, active, count);
-  if (coherent)
-    packet.context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  packet.trace(scene);
+  packet.trace(scene, coherent);
   const RTCRayHitNt<K>& rh = packet.rh;
   for (int i = 0; i < count; ++i)
   {
@@ -297,7 +296,7 @@ void insideIntervalsPacketOf(RTCScene scene, const DoubleRay* rays, const bool* 
 {
   PacketTrace<K> packet(rays, active, count);
   packet.context.intervals = out;
-  packet.trace(scene);
+  packet.trace(scene, false);
 }
 
 /// Checks a packet's ray count.
@@ -318,9 +317,7 @@ bool EmbreeScene::intersect(const DoubleRay& ray, SceneHit& hit, bool coherent) 
   TraceContext context;
   DoubleRayTrace trace;
   initDoubleTrace(context, trace, ray);
-  if (coherent)
-    context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect1(Scene, &context.embree, &rh);
+  embree::intersect1(Scene, context.embree, rh, coherent);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
     return false;
   readHit(trace, rh.hit.geomID, rh.hit.primID, rh.ray.tfar, vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
@@ -347,7 +344,7 @@ bool EmbreeScene::occluded(const DoubleRay& ray) const
   TraceContext context;
   DoubleRayTrace trace;
   initDoubleTrace(context, trace, ray);
-  rtcOccluded1(Scene, &context.embree, &rh.ray);
+  embree::occluded1(Scene, context.embree, rh.ray);
   return rh.ray.tfar < 0.0f;
 }
 
@@ -358,7 +355,7 @@ double EmbreeScene::insideLength(const DoubleRay& ray, float& firstEntry) const
   DoubleRayTrace trace;
   initDoubleTrace(context, trace, ray);
   context.volumeQuery = true;
-  rtcIntersect1(Scene, &context.embree, &rh);
+  embree::intersect1(Scene, context.embree, rh, false);
   firstEntry = context.firstEntry;
   return context.insideLength;
 }
@@ -370,7 +367,7 @@ void EmbreeScene::insideIntervals(const DoubleRay& ray, std::vector<InsideInterv
   DoubleRayTrace trace;
   initDoubleTrace(context, trace, ray);
   context.intervals = &out;
-  rtcIntersect1(Scene, &context.embree, &rh);
+  embree::intersect1(Scene, context.embree, rh, false);
 }
 
 void EmbreeScene::insideIntervalsPacket(const DoubleRay* rays, const bool* active, int count,

@@ -3,9 +3,8 @@
 // (BVH build time and bytes).
 #pragma once
 
+#include "sightline/core/EmbreeApi.h"
 #include "sightline/core/Geometry.h"
-
-#include <embree3/rtcore.h>
 
 #include <atomic>
 #include <memory>

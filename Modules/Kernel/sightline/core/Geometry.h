@@ -5,10 +5,9 @@
 #pragma once
 
 #include "sightline/math/Math.h"
+#include "sightline/core/EmbreeApi.h"
 #include "sightline/core/Shading.h"
 #include "sightline/core/SurfaceUnion.h"
-
-#include <embree3/rtcore.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -95,7 +94,7 @@ struct DoubleRayTrace
 /// candidate, so no filter function and no rtcFilterIntersection round trip is needed.)
 struct TraceContext
 {
-  RTCIntersectContext embree; ///< first member, so Embree's pointer is also ours
+  embree::QueryContext embree; ///< first member, so Embree's pointer is also ours
   bool volumeQuery = false;
   double insideLength = 0.0;
   /// Union query (translucent tubes): when set, primitives append their inside intervals to
@@ -230,7 +229,7 @@ private:
       RTCHitN_v(hits, args->N, i) = 0.0f;
       RTCHitN_primID(hits, args->N, i) = args->primID;
       RTCHitN_geomID(hits, args->N, i) = args->geomID;
-      RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+      embree::copyInstance(hits, args->N, i, *args->context);
     }
   }
 

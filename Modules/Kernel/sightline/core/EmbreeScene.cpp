@@ -224,7 +224,9 @@ void intersectNative(const int* valid, RTCScene scene, embree::QueryContext& con
 }
 
 /// Fills lanes [0, count) of a K-wide packet with the float rounding of the active rays (ray id
-/// = lane) and their double rays; the other lanes are invalid.
+/// = lane) and their double rays; the other lanes are invalid, and also disabled rays
+/// (tnear > tfar, mask 0): a packet wider than the CPU's (16 rays without AVX-512) goes through
+/// Embree's ray stream code, which ignores the valid mask and skips only such rays.
 template <int K>
 void fillPacket(RTCRayHitNt<K>& rh, int* valid, DoubleRayTrace* traces, const DoubleRay* rays,
   const bool* active, int count)
@@ -233,7 +235,19 @@ void fillPacket(RTCRayHitNt<K>& rh, int* valid, DoubleRayTrace* traces, const Do
   {
     valid[i] = i < count && active[i] ? -1 : 0;
     if (!valid[i])
+    {
+      rh.ray.org_x[i] = rh.ray.org_y[i] = rh.ray.org_z[i] = 0.0f;
+      rh.ray.dir_x[i] = rh.ray.dir_y[i] = 0.0f;
+      rh.ray.dir_z[i] = 1.0f;
+      rh.ray.tnear[i] = 1.0f;
+      rh.ray.tfar[i] = 0.0f;
+      rh.ray.time[i] = 0.0f;
+      rh.ray.mask[i] = 0u;
+      rh.ray.id[i] = unsigned(i);
+      rh.ray.flags[i] = 0;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       continue;
+    }
     traces[i].ray = rays[i];
     const Ray ray = rays[i].rounded();
     rh.ray.org_x[i] = ray.origin.x;

@@ -32,6 +32,7 @@ LD_LIBRARY_PATH; the defaults are those of build-paraview/ (scripts/build.sh --p
 """
 import argparse
 import csv
+import glob
 import json
 import os
 import shutil
@@ -46,6 +47,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 BUILD = os.path.join(ROOT, "build-paraview")
 PREFIX = os.path.join(BUILD, "paraview-prefix", "usr")
+
+
+def build_path(pattern):
+    """The one path of the ParaView build matching pattern (its Python and ParaView versions
+    are the platform's: lib/python3.11, lib/paraview-5.11 on Debian 12)."""
+    found = glob.glob(os.path.join(BUILD, pattern))
+    return found[0] if len(found) == 1 else os.path.join(BUILD, pattern)
 SCRIPT = os.path.join(HERE, "paraview_scale.py")
 MIB = 1024.0 * 1024.0
 
@@ -80,7 +88,7 @@ def write_tck(path, streamlines, points, extent, seed=7):
 def environment():
     env = dict(os.environ)
     paths = [os.path.join(PREFIX, "lib", "python3", "dist-packages"),
-             os.path.join(BUILD, "lib", "python3.11", "site-packages")]
+             build_path("lib/python3.*/site-packages")]
     if "paraview-prefix" not in env.get("PYTHONPATH", ""):
         env["PYTHONPATH"] = ":".join(paths + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
     env.setdefault("LD_LIBRARY_PATH", os.path.join(BUILD, "lib"))
@@ -145,8 +153,7 @@ def main():
                                                             os.path.join(PREFIX, "bin", "pvbatch")))
     parser.add_argument("--mpirun", default=os.environ.get("SIGHTLINE_MPIRUN", "mpirun"))
     parser.add_argument("--plugin", default=os.environ.get(
-        "SIGHTLINE_PLUGIN", os.path.join(BUILD, "lib", "paraview-5.11", "plugins", "Sightline",
-                                         "Sightline.so")))
+        "SIGHTLINE_PLUGIN", build_path("lib/paraview-*/plugins/Sightline/Sightline.so")))
     args = parser.parse_args()
     os.makedirs(args.output, exist_ok=True)
     data = os.path.join(args.output, "data")

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # Configures and builds Sightline in ./build (or $SIGHTLINE_BUILD_DIR) with Debian's python3.
-# With --paraview first: the ParaView configuration (the modules against ParaView 5.11's VTK 9.2
-# and the plugin) in ./build-paraview (or $SIGHTLINE_BUILD_DIR), using the private ParaView
+# With --paraview first: the ParaView configuration (the modules against ParaView's own VTK:
+# 5.11's 9.2 on Debian 12, 5.13's 9.3 on 13; and the plugin) in ./build-paraview (or $SIGHTLINE_BUILD_DIR), using the private ParaView
 # prefix of scripts/paraview-prefix.sh. Further arguments go to cmake.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# The longer fuzz campaign of the four readers (README "Reliability"): builds the libFuzzer
+# The longer fuzz campaign of the four readers (Documentation/reliability.md): builds the libFuzzer
 # targets with clang, ASan and UBSan in $SIGHTLINE_FUZZ_BUILD_DIR (default build-fuzz), writes
 # the seed corpora from real files, then runs each target for RUNS executions (default 10^6) or
 # SECONDS (default 3600), whichever comes first, and prints executions and findings per reader.
@@ -11,13 +11,15 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SIGHTLINE_FUZZ_BUILD_DIR:-$root/build-fuzz}"
+# shellcheck source=platform.sh
+. "$root/scripts/platform.sh"
 runs="${1:-1000000}"
 seconds="${2:-3600}"
 shift $(( $# > 2 ? 2 : $# ))
 readers=("$@")
 [ ${#readers[@]} -gt 0 ] || readers=(MIF TCK TrackVis SWC)
 if [ ! -f "$build/build.ninja" ]; then
-  CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -G Ninja \
+  CC="$SIGHTLINE_CC" CXX="$SIGHTLINE_CXX" cmake -S "$root" -B "$build" -G Ninja \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPython3_EXECUTABLE=/usr/bin/python3 \
     -DSIGHTLINE_WRAP_PYTHON=OFF -DSIGHTLINE_BUILD_EXAMPLES=OFF \
     -DSIGHTLINE_BUILD_BENCHMARKS=OFF -DSIGHTLINE_FUZZ=ON

@@ -5,8 +5,8 @@
 # coloured by height and the SHData fixture's .mif as Sightline SH Glyphs.
 #
 # Needs the ParaView configuration built (scripts/build.sh --paraview, into build-paraview or
-# $SIGHTLINE_BUILD_DIR) and Debian's xvfb, xdotool and libqt5svg5 (ParaView's toolbar icons are
-# SVG; all in scripts/install-dependencies.sh). It starts its own Xvfb with a 1600x1000 screen,
+# $SIGHTLINE_BUILD_DIR) and Debian's xvfb, xdotool and Qt's SVG support (ParaView's toolbar icons
+# are SVG; all in scripts/install-dependencies.sh). It starts its own Xvfb with a 1600x1000 screen,
 # the `paraview` GUI with the plugin on PV_PLUGIN_PATH and scripts/paraview_gui_scene.py as its
 # --script, and once the scene is up uses xdotool like a user: sizes the main window to the
 # screen, widens the left dock, shortens the pipeline browser and collapses the filter's
@@ -18,8 +18,10 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SIGHTLINE_BUILD_DIR:-$root/build-paraview}"
 output="${1:-$root/Data/Images/paraview-gui.png}"
 prefix="$build/paraview-prefix/usr"
-plugin_dir="$build/lib/paraview-5.11/plugins/Sightline"
-[ -f "$plugin_dir/Sightline.so" ] || { echo "no plugin in $plugin_dir: run scripts/build.sh --paraview" >&2; exit 1; }
+# shellcheck source=platform.sh
+. "$root/scripts/platform.sh"
+plugin_dir="$(sightline_plugin_dir "$build")" && [ -f "$plugin_dir/Sightline.so" ] ||
+  { echo "no plugin in $build: run scripts/build.sh --paraview" >&2; exit 1; }
 for tool in Xvfb xdotool paraview; do
   command -v "$tool" >/dev/null || { echo "$tool is missing: run scripts/install-dependencies.sh" >&2; exit 1; }
 done
@@ -41,7 +43,7 @@ xvfb_pid=$!
 for _ in $(seq 50); do [ -s "$work/display" ] && break; sleep 0.1; done
 export DISPLAY=":$(cat "$work/display")"
 
-PYTHONPATH="$prefix/lib/python3/dist-packages:$build/lib/python3.11/site-packages" \
+PYTHONPATH="$prefix/lib/python3/dist-packages:$(sightline_python_dir "$build")" \
 LD_LIBRARY_PATH="$build/lib" PV_PLUGIN_PATH="$plugin_dir" XDG_RUNTIME_DIR="$work" XDG_CONFIG_HOME="$work" \
 SIGHTLINE_GUI_MIF="$sh_data/small_64D_sh_tournier07.mif" SIGHTLINE_GUI_READY="$work/ready" \
   paraview --dr --script="$root/scripts/paraview_gui_scene.py" >"$work/paraview.log" 2>&1 &
@@ -49,7 +51,7 @@ paraview_pid=$!
 for _ in $(seq 120); do [ -f "$work/ready" ] && break; sleep 0.5; done
 [ -f "$work/ready" ] || { cat "$work/paraview.log" >&2; echo "the GUI did not set up the scene" >&2; exit 1; }
 
-window="$(xdotool search --name '^ParaView 5\.11' | head -n1)"
+window="$(xdotool search --name '^ParaView [0-9]' | head -n1)"
 xdotool windowmove "$window" 0 0 windowsize "$window" 1600 1000
 sleep 2
 # Widen the left dock (its edge at x=294), shorten the pipeline browser (its lower edge at

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# Makes a private ParaView 5.11 prefix in $1 (default build-paraview/paraview-prefix) and
-# prints its CMake package folder (ParaView_DIR).
+# Makes a private prefix of Debian's ParaView (5.11 on Debian 12, 5.13 on 13) in $1 (default
+# build-paraview/paraview-prefix) and prints its CMake package folder (ParaView_DIR).
 #
 # Why a prefix: ParaView's Python (pvpython, its vtkmodules) is only in python3-paraview, and
 # that package conflicts with python3-vtk9, so apt would remove Debian's VTK 9.1. ParaView's
@@ -9,6 +9,9 @@
 # vtkCommonCore.so). So the .deb is unpacked here instead of installed, and the prefix is
 # completed with links to every file of the installed paraview and paraview-dev packages.
 # Nothing under /usr changes. See ../shared/notes/paraview.md.
+# Debian 13's python3-paraview names its extension modules with the interpreter's ABI tag
+# (vtkCommonCore.cpython-313-x86_64-linux-gnu.so) while paraview-dev's CMake files name them
+# untagged (vtkCommonCore.so): each tagged module gets an untagged link beside it.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 prefix="${1:-$root/build-paraview/paraview-prefix}"
@@ -35,7 +38,14 @@ if [ ! -f "$stamp" ]; then
       ln -s "$f" "$prefix$f"
     fi
   done
+  find "$prefix/usr/lib" -name '*.cpython-*.so' -path '*-packages/*' | while read -r tagged; do
+    untagged="${tagged%%.cpython-*}.so"
+    [ -e "$untagged" ] || ln -s "$(basename "$tagged")" "$untagged"
+  done
   rm -rf "$prefix/.download"
   touch "$stamp"
 fi
-echo "$prefix/usr/lib/x86_64-linux-gnu/cmake/paraview-5.11"
+found=("$prefix"/usr/lib/*/cmake/paraview-*)
+[ ${#found[@]} -eq 1 ] && [ -d "${found[0]}" ] ||
+  { echo "paraview-prefix: expected one cmake/paraview-* folder in $prefix, found: ${found[*]}" >&2; exit 1; }
+echo "${found[0]}"

@@ -8,6 +8,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${SIGHTLINE_BUILD_DIR:-$root/build}"
+# shellcheck source=platform.sh
+. "$root/scripts/platform.sh"
 "$root/scripts/install-dependencies.sh"
 "$root/scripts/build.sh"
 cd "$root"
@@ -44,14 +46,14 @@ xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
 #    installed-style viewer, without a window (output/sightline_view_func_coef.png).
 "$build/bin/sightline-view" /usr/lib/python3/dist-packages/dipy/data/files/func_coef.nii.gz \
   --basis dipy --legacy --output "$root/output/sightline_view_func_coef.png" --size 1200 900
-# 7. The same kind of scene through ParaView: the plugin built against ParaView 5.11's VTK 9.2
-#    (scripts/build.sh --paraview), DIPY's bundle as Sightline Tubes coloured through a ParaView
+# 7. The same kind of scene through ParaView: the plugin built against ParaView's own VTK (5.11's
+#    9.2 on Debian 12, 5.13's 9.3 on 13; scripts/build.sh --paraview), DIPY's bundle as Sightline Tubes coloured through a ParaView
 #    colour map beside PREM as a Sightline Spherical Volume, with ParaView's outline, axes grid
 #    and scalar bar, rendered by pvbatch (output/paraview_sightline.png).
 pv_build="${SIGHTLINE_PARAVIEW_BUILD_DIR:-$root/build-paraview}"
 SIGHTLINE_BUILD_DIR="$pv_build" "$root/scripts/build.sh" --paraview
 pv_prefix="$pv_build/paraview-prefix/usr"
-PYTHONPATH="$pv_prefix/lib/python3/dist-packages:$pv_build/lib/python3.11/site-packages" \
+PYTHONPATH="$pv_prefix/lib/python3/dist-packages:$(sightline_python_dir "$pv_build")" \
   LD_LIBRARY_PATH="$pv_build/lib" xvfb-run -a -s "-noreset -screen 0 1920x1080x24" \
   "$pv_prefix/bin/pvbatch" --force-offscreen-rendering Examples/ParaView/render_paraview.py \
-  --plugin "$pv_build/lib/paraview-5.11/plugins/Sightline/Sightline.so" --output "$root/output"
+  --plugin "$(sightline_plugin_dir "$pv_build")/Sightline.so" --output "$root/output"

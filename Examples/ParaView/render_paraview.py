@@ -4,7 +4,7 @@ opened through File > Open's reader factory) as exact tubes coloured through a P
 map, PREM's density as a spherical volume beside it, ParaView's own outline and axes grid
 around them, and a scalar bar.
 
-  PYTHONPATH=<ParaView's Python>:<build>/lib/python3.11/site-packages \\
+  PYTHONPATH=<ParaView's Python>:<build>/lib/python3.X/site-packages \\
     pvbatch --force-offscreen-rendering render_paraview.py --plugin <Sightline.so> --output DIR
 """
 import argparse

@@ -189,11 +189,12 @@ std::vector<DipySphere> loadDipySpheres(const Options& options, const std::vecto
       << "import os, sys\n"
          "from dipy.data import get_sphere\n"
          "for name in sys.argv[2:]:\n"
-         "    s = get_sphere(name)\n"
+         "    s = get_sphere(name=name)\n"
          "    with open(os.path.join(sys.argv[1], name + '.txt'), 'w') as f:\n"
          "        f.write(f'{len(s.vertices)} {len(s.faces)}\\n')\n"
          "        for v in s.vertices:\n"
-         "            f.write(f'{v[0]!r} {v[1]!r} {v[2]!r}\\n')\n"
+         // float(): NumPy 2 (Debian 13) writes a scalar's repr as np.float64(...).
+         "            f.write(f'{float(v[0])!r} {float(v[1])!r} {float(v[2])!r}\\n')\n"
          "        for t in s.faces:\n"
          "            f.write(f'{t[0]} {t[1]} {t[2]}\\n')\n";
     std::string command = shellQuote(options.python) + " " + shellQuote(scriptPath.string()) + " " +

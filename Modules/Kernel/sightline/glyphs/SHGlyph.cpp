@@ -23,7 +23,11 @@ namespace
 // An AVX2 clone beside the portable one, chosen when the library loads (an ELF ifunc), where
 // the compiler and platform offer it: x86-64 Linux with GCC or Clang; elsewhere the portable
 // code alone. Helpers meant to run at the clone's width are forced inline into it.
-#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
+// Not with Clang 19 (Debian 13's): it leaves the template instantiations that only the clones
+// use (the tables' constructors, std::call_once's helpers) undefined, and the kernel does not
+// link. Clang 14 and GCC 12 and 14 are fine.
+#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__)) && \
+  !(defined(__clang__) && __clang_major__ >= 19)
 #define SIGHTLINE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
 #define SIGHTLINE_INLINE_INTO_CLONES __attribute__((always_inline)) inline
 #else

@@ -11,6 +11,8 @@
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataSet.h"
+#include "vtkExtractCells.h"
+#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
@@ -23,7 +25,6 @@
 #include "vtkProperty.h"
 #include "vtkPVRenderView.h"
 #include "vtkPVRenderViewDataDeliveryManager.h"
-#include "vtkRedistributeDataSetFilter.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
 #include "vtkSightlineMapper.h"
@@ -101,6 +102,87 @@ vtkSmartPointer<vtkMultiBlockDataSet> AsMultiBlock(vtkDataObject* data)
     blocks->SetBlock(0, copy);
   }
   return blocks;
+}
+
+/// The view's regions as each rank draws them: the cuts end at the load-balancing data's
+/// bounds, and what lies beyond (a tube's radius, a glyph) belongs to the region at that face,
+/// so faces on the outside of all regions move to infinity. Invalid boxes stay invalid.
+std::vector<vtkBoundingBox> OpenRegions(const std::vector<vtkBoundingBox>& cuts)
+{
+  vtkBoundingBox all;
+  for (const vtkBoundingBox& cut : cuts)
+  {
+    if (cut.IsValid())
+    {
+      all.AddBox(cut);
+    }
+  }
+  double outer[6];
+  all.GetBounds(outer);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<vtkBoundingBox> regions(cuts.size());
+  for (std::size_t r = 0; r < cuts.size(); ++r)
+  {
+    if (!cuts[r].IsValid())
+    {
+      continue;
+    }
+    double bounds[6];
+    cuts[r].GetBounds(bounds);
+    for (int i = 0; i < 6; ++i)
+    {
+      if (bounds[i] == outer[i])
+      {
+        bounds[i] = i % 2 ? inf : -inf;
+      }
+    }
+    regions[r].SetBounds(bounds);
+  }
+  return regions;
+}
+
+/// Sends every cell to each rank whose region (regions[rank]) its bounds meet, so that a cell
+/// near a border goes to every rank it reaches; what this rank receives from all ranks becomes
+/// inputs of `received`. Collective. Done by hand rather than by vtkRedistributeDataSetFilter:
+/// with overlapping explicit cuts, VTK 9.3's filter (ParaView 5.13) gives a cell to one of the
+/// regions that contain it only, whatever the boundary mode, where VTK 9.2's gave it to all.
+void SendToRegions(vtkMultiProcessController* controller, vtkUnstructuredGrid* cells,
+  const std::vector<vtkBoundingBox>& regions, vtkAppendFilter* received)
+{
+  std::vector<vtkBoundingBox> cellBoxes(static_cast<std::size_t>(cells->GetNumberOfCells()));
+  for (vtkIdType c = 0; c < cells->GetNumberOfCells(); ++c)
+  {
+    double bounds[6];
+    cells->GetCellBounds(c, bounds);
+    cellBoxes[static_cast<std::size_t>(c)].SetBounds(bounds);
+  }
+  const int ranks = controller->GetNumberOfProcesses();
+  for (int destination = 0; destination < ranks; ++destination)
+  {
+    vtkNew<vtkIdList> ids;
+    const vtkBoundingBox& region = regions[static_cast<std::size_t>(destination)];
+    for (std::size_t c = 0; region.IsValid() && c < cellBoxes.size(); ++c)
+    {
+      if (region.Intersects(cellBoxes[c]))
+      {
+        ids->InsertNextId(static_cast<vtkIdType>(c));
+      }
+    }
+    vtkNew<vtkExtractCells> extract;
+    extract->SetInputData(cells);
+    extract->SetCellList(ids);
+    extract->Update();
+    std::vector<vtkSmartPointer<vtkDataObject>> parts;
+    controller->Gather(extract->GetOutput(), parts, destination);
+    for (const auto& part : parts)
+    {
+      auto* grid = vtkUnstructuredGrid::SafeDownCast(part);
+      if (grid && grid->GetNumberOfCells() > 0)
+      {
+        received->AddInputData(grid);
+      }
+    }
+  }
 }
 }
 
@@ -290,22 +372,17 @@ void vtkSightlineRepresentation::DrawRegion(
   {
     // A primitive reaching into a region has its cell within `reach` of it: pad every region
     // by the largest reach and send each cell to every padded region it meets.
-    std::vector<vtkBoundingBox> padded = delivery->GetCuts();
+    std::vector<vtkBoundingBox> padded = OpenRegions(delivery->GetCuts());
     for (vtkBoundingBox& box : padded)
     {
-      box.Inflate(global[0]);
+      if (box.IsValid())
+      {
+        box.Inflate(global[0]);
+      }
     }
-    vtkNew<vtkRedistributeDataSetFilter> redistribute;
-    redistribute->SetController(controller);
-    redistribute->SetInputData(this->RegionCells(piece));
-    redistribute->UseExplicitCutsOn();
-    redistribute->SetExplicitCuts(padded);
-    redistribute->ExpandExplicitCutsOn(); // the outer regions take what lies beyond
-    redistribute->SetBoundaryModeToAssignToAllIntersectingRegions();
-    redistribute->GenerateGlobalCellIdsOff();
-    redistribute->Update();
-    this->RegionPiece = vtkSmartPointer<vtkDataObject>::Take(redistribute->GetOutputDataObject(0)->NewInstance());
-    this->RegionPiece->ShallowCopy(redistribute->GetOutputDataObject(0));
+    vtkNew<vtkAppendFilter> received;
+    SendToRegions(controller, this->RegionCells(piece), padded, received);
+    this->RegionPiece = AppendedCells(received);
     this->RegionCutsTime = delivery->GetCutsMTime();
     this->RegionPieceTime = pieceTime;
     this->RegionReach = global[0];
@@ -329,44 +406,26 @@ bool vtkSightlineRepresentation::GetOrderedCompositingRegion(vtkInformation* inI
   {
     return false;
   }
-  // One box per rank (ParaView 5.11 merges the kd-tree's leaves down to the rank count).
+  // One box per rank (ParaView 5.11 and 5.13 merge the kd-tree's leaves down to the rank count).
   const std::vector<vtkBoundingBox>& cuts = delivery->GetCuts();
   const int rank = controller->GetLocalProcessId();
   if (static_cast<int>(cuts.size()) != controller->GetNumberOfProcesses())
   {
     return false;
   }
-  const double inf = std::numeric_limits<double>::infinity();
-  if (!cuts[rank].IsValid())
+  const vtkBoundingBox own = OpenRegions(cuts)[rank];
+  if (!own.IsValid())
   {
     // No box for this rank (regions from bounds, this rank without data): it is sent nothing,
     // and still takes part in the collective steps, so the decision stays the same everywhere.
+    const double inf = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 6; ++i)
     {
       region[i] = i % 2 ? inf : -inf;
     }
     return true;
   }
-  vtkBoundingBox all;
-  for (const vtkBoundingBox& cut : cuts)
-  {
-    if (cut.IsValid())
-    {
-      all.AddBox(cut);
-    }
-  }
-  double outer[6];
-  all.GetBounds(outer);
-  cuts[rank].GetBounds(region);
-  // The cuts end at the load-balancing data's bounds; what lies beyond (a tube's radius, a
-  // glyph) belongs to the region at that face.
-  for (int i = 0; i < 6; ++i)
-  {
-    if (region[i] == outer[i])
-    {
-      region[i] = i % 2 ? inf : -inf;
-    }
-  }
+  own.GetBounds(region);
   return true;
 }
 

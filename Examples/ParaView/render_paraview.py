@@ -54,7 +54,11 @@ earth = SightlineSphericalField(Field="PREM Density", RadialResolution=32,  # no
 volume = Show(earth, view)
 volume.Representation = "Sightline Spherical Volume"
 volume.Scale = [40, 40, 40]
-volume.Position = [60, 0, 0]
+# ParaView 5.13 calls the display's offset Translation; 5.11 called it Position.
+if "Translation" in volume.ListProperties():
+    volume.Translation = [60, 0, 0]
+else:
+    volume.Position = [60, 0, 0]
 ColorBy(volume, ("CELLS", "density"))
 density = GetColorTransferFunction("density")
 density.ApplyPreset("Inferno (matplotlib)", True)

@@ -26,7 +26,8 @@ packages=(
 )
 case "$SIGHTLINE_DEBIAN" in
   12) packages+=(clang-14 libclang-rt-14-dev  # sanitizer build and libFuzzer targets
-                 libqt5svg5) ;;               # ParaView 5.11's SVG toolbar icons (Qt 5)
+                 libqt5svg5                   # ParaView 5.11's SVG toolbar icons (Qt 5)
+                 debootstrap) ;;              # the Debian 13 root of test.sh (scripts/debian13.sh)
   13) packages+=(clang libclang-rt-dev        # the default clang (19): trixie has no clang-14
                  qt6-svg-plugins) ;;          # ParaView 5.13's SVG toolbar icons (Qt 6)
 esac

@@ -205,6 +205,7 @@ void readHit(const DoubleRayTrace& trace, unsigned geomID, unsigned primID, floa
   hit.normal = normal;
   hit.geomID = geomID;
   hit.primID = primID;
+  hit.part = userHit ? trace.tfarPart : SurfaceHit::kNoPart;
 }
 
 void intersectNative(const int* valid, RTCScene scene, embree::QueryContext& context,

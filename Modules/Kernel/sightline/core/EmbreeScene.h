@@ -48,6 +48,7 @@ struct SceneHit
   vec3 normal{ 0.0f };  ///< the primitive's (not necessarily unit, nor facing the ray)
   unsigned geomID = RTC_INVALID_GEOMETRY_ID;
   unsigned primID = RTC_INVALID_GEOMETRY_ID;
+  std::uint32_t part = SurfaceHit::kNoPart; ///< the part of the primitive hit (SurfaceHit::part)
 };
 
 /// Geometries plus their BVH. Add geometries, commit, then trace from any number of threads.

@@ -10,7 +10,9 @@
 namespace sightline
 {
 /// The primitive a pixel's primary ray hit: its geometry's index in the scene and its index in
-/// that geometry (Embree's geomID and primID). kNone in both where nothing opaque was hit.
+/// that geometry (Embree's geomID and primID), or for geometries whose primitives hold several
+/// selectable elements the element hit (Geometry::selectionIndex: a tube chunk's link).
+/// kNone in both where nothing opaque was hit.
 struct PixelPrimitive
 {
   static constexpr std::uint32_t kNone = 0xffffffffu;

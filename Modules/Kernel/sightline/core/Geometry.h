@@ -28,6 +28,10 @@ struct SurfaceHit
 {
   double t = kInfinity; ///< along the double ray the primitive was given
   vec3 normal{ 0.0f }; ///< not necessarily unit length nor facing the ray
+  /// The solid part hit (as InsideInterval::part), for primitives made of several parts whose
+  /// colour or pick differ (a chunk of tube links); kNoPart: the primitive as a whole.
+  std::uint32_t part = kNoPart;
+  static constexpr std::uint32_t kNoPart = 0xffffffffu;
 };
 
 /// Abstract base of everything the renderer can trace.
@@ -69,6 +73,14 @@ public:
   virtual vec3 partNormal(std::uint32_t /*part*/, const dvec3& /*point*/) const { return vec3(0.0f); }
   /// Colour of a solid part; only called when hasPrimitiveColors().
   virtual vec3 partColor(std::uint32_t /*part*/) const { return vec3(1.0f); }
+  /// Picking: what a pixel whose primary ray hit `part` of `primitive` selects (an index in
+  /// [0, selectionCount())). By default the primitive; a geometry whose primitives hold
+  /// several selectable elements (tube chunks: links) names the element.
+  virtual std::uint32_t selectionIndex(unsigned primitive, std::uint32_t /*part*/) const
+  {
+    return primitive;
+  }
+  virtual std::size_t selectionCount() const { return size(); }
   /// Bytes the geometry itself holds (the BVH is counted by the scene).
   virtual std::size_t memoryBytes() const = 0;
   /// Bounds of all primitives (empty box when there are none).
@@ -85,6 +97,7 @@ struct DoubleRayTrace
   DoubleRay ray;
   unsigned tfarGeomID = RTC_INVALID_GEOMETRY_ID;
   unsigned tfarPrimID = RTC_INVALID_GEOMETRY_ID;
+  std::uint32_t tfarPart = SurfaceHit::kNoPart; ///< the part of that hit
 };
 
 /// Embree context of every trace. In a volume or union query the user geometries do not report
@@ -219,6 +232,7 @@ private:
         lane.ray.tfar = hit.t;
         lane.tfarGeomID = args->geomID;
         lane.tfarPrimID = args->primID;
+        lane.tfarPart = hit.part;
         embreeFar = floatAtLeast(hit.t);
       }
       RTCRayN_tfar(rays, args->N, i) = embreeFar;

@@ -316,7 +316,9 @@ void shadeSurfaceAndVolumes(const FrameContext& frame, int x, int y, const Doubl
     const Material& m = geometry.material;
     vec3 ambientColor = m.ambientColor, diffuseColor = m.color;
     if (geometry.hasPrimitiveColors())
-      ambientColor = diffuseColor = geometry.surfaceColor(sceneHit.primID, hitObject);
+      ambientColor = diffuseColor = sceneHit.part != SurfaceHit::kNoPart
+        ? geometry.partColor(sceneHit.part) // a primitive of several parts (tube chunks)
+        : geometry.surfaceColor(sceneHit.primID, hitObject);
     float visibility[kMaxShadowedLights];
     const bool shadowed = frame.options.shadows.mode != ShadowMode::None && !frame.lighting.lights.empty();
     if (shadowed)
@@ -350,7 +352,8 @@ void writePixel(const FrameContext& frame, std::size_t i, const DoubleRay& ray, 
   const SceneHit& sceneHit, const PixelState& pixel, Framebuffer& fb)
 {
   if (hit && frame.options.primitiveIds)
-    fb.Primitives[i] = PixelPrimitive{ sceneHit.geomID, sceneHit.primID };
+    fb.Primitives[i] = PixelPrimitive{ sceneHit.geomID,
+      frame.scene.geometry(sceneHit.geomID).selectionIndex(sceneHit.primID, sceneHit.part) };
   const dvec3 depthPoint = ray.at(pixel.depthT);
   fb.Color[i] = pixel.color;
   fb.Depth[i] = float(std::clamp(frame.camera.windowDepth(depthPoint), 0.0, 1.0));

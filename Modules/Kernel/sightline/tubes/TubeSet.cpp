@@ -10,6 +10,8 @@ namespace sightline
 {
 std::string TubeLayout::name() const
 {
+  if (primitives == Primitives::Chunked)
+    return "chunked (" + std::to_string(chunkSize) + " links), on-the-fly";
   return std::string(primitives == Primitives::Combined ? "combined" : "separate") + ", " +
     (transforms == Transforms::OnTheFly ? "on-the-fly" : "precomputed");
 }
@@ -44,6 +46,82 @@ void checkForCycles(const std::vector<std::int64_t>& predecessors)
 Box3 sphereBox(const vec4& node)
 {
   return Box3{ vec3(node) - vec3(node.w), vec3(node) + vec3(node.w) };
+}
+
+/// A box in the set's frame widened against rounding, moved to the world frame.
+Box3 padAndPlace(Box3 box, const dvec3& origin)
+{
+  const vec3 pad = 1e-6f * (glm::abs(box.lower) + glm::abs(box.upper) + vec3(1e-30f));
+  box.lower -= pad;
+  box.upper += pad;
+  return Box3{ vec3(origin + dvec3(box.lower)), vec3(origin + dvec3(box.upper)) };
+}
+
+/// The nearest surface among a primitive's parts in (tmin, tmax): an interval's entry, or its
+/// exit when the ray starts inside. Every layout tests its parts through this, so they agree.
+struct NearestPart
+{
+  dvec3 o, d;
+  double tmin, best;
+  dvec3 normal{ 0.0 };
+  std::uint32_t part = SurfaceHit::kNoPart;
+
+  void sphere(const vec4& node, std::uint32_t p)
+  {
+    const dvec3 center = dvec3(vec3(node));
+    double t0, t1;
+    if (sphereInterval(center, node.w, o, d, -1e300, 1e300, t0, t1))
+      consider(t0, t1, p, [&](const dvec3& x) { return x - center; });
+  }
+  void stump(const ConeStump& k, std::uint32_t p)
+  {
+    double t0, t1;
+    if (coneStumpInterval(k, o, d, -1e300, 1e300, t0, t1))
+      consider(t0, t1, p, [&](const dvec3& x) { return coneStumpNormal(k, x); });
+  }
+  template <class NormalAt>
+  void consider(double t0, double t1, std::uint32_t p, NormalAt normalAt)
+  {
+    const double t = t0 > tmin ? t0 : t1;
+    if (t > tmin && t < best)
+    {
+      best = t;
+      normal = normalAt(o + t * d);
+      part = p;
+    }
+  }
+  bool report(double tmax, SurfaceHit& hit) const
+  {
+    if (part == SurfaceHit::kNoPart || !(best < tmax))
+      return false;
+    hit.t = best;
+    hit.normal = vec3(normal);
+    hit.part = part;
+    return true;
+  }
+};
+
+/// Whether the ray's line misses a link's bounding sphere (the link lies in the hull of its
+/// two spheres), or meets it only outside [tmin, tmax]: a cheap test that spares a chunk's
+/// links the exact sphere and stump tests. Padded well beyond double rounding: it only culls.
+bool linkMissed(const dvec3& o, const dvec3& d, double tmin, double tmax, const vec4& a, const vec4& b)
+{
+  const dvec3 pa = dvec3(vec3(a)), pb = dvec3(vec3(b));
+  const dvec3 c = 0.5 * (pa + pb);
+  const dvec3 f = c - o;
+  const double dd = glm::dot(d, d), tc = glm::dot(f, d) / dd;
+  const dvec3 off = f - tc * d;
+  double reach = 0.5 * glm::length(pb - pa) + std::max(double(a.w), double(b.w));
+  reach += 1e-9 * (reach + glm::length(f)) + 1e-300;
+  if (glm::dot(off, off) > reach * reach)
+    return true;
+  const double half = reach / std::sqrt(dd);
+  return tc - half > tmax || tc + half < tmin;
+}
+
+ConeStump linkStump(const vec4& a, const vec4& b)
+{
+  return makeConeStump(dvec3(vec3(a)), a.w, dvec3(vec3(b)), b.w);
 }
 } // namespace
 
@@ -116,6 +194,12 @@ TubeSet::TubeSet(const std::vector<vec3>& points, const std::vector<float>& radi
     return StoredStump{ vec3(k.base), vec3(k.axis), float(k.slope), k.valid ? float(k.cosine) : 0.0f,
       float(k.radius1), float(k.u1), float(k.u2) };
   };
+  if (Layout.primitives == TubeLayout::Primitives::Chunked)
+  {
+    if (Layout.chunkSize < 1)
+      throw std::invalid_argument("sightline::TubeSet: a chunk holds at least one link");
+    Layout.transforms = TubeLayout::Transforms::OnTheFly; // chunks derive their stumps
+  }
   const bool precomputed = Layout.transforms == TubeLayout::Transforms::Precomputed;
   for (std::uint32_t k = 0; k < Nodes.size(); ++k)
   {
@@ -141,6 +225,9 @@ TubeSet::TubeSet(const std::vector<vec3>& points, const std::vector<float>& radi
   StumpEnds.shrink_to_fit();
   Stumps.shrink_to_fit();
   Colors.shrink_to_fit();
+  NodeCount = Nodes.size();
+  if (Layout.primitives == TubeLayout::Primitives::Chunked)
+    buildChunks();
   for (unsigned i = 0; i < size(); ++i)
     AllBounds.extend(bounds(i));
 }
@@ -187,16 +274,16 @@ ConeStump TubeSet::stumpOf(std::uint32_t node) const
     k.u2 = s.u2;
     return k;
   }
-  const std::int32_t p = Predecessors[node];
+  const std::int32_t p = predecessorOf(node);
   if (p < 0)
     return ConeStump{};
-  const vec4& a = Nodes[std::size_t(p)];
-  const vec4& b = Nodes[node];
-  return makeConeStump(dvec3(vec3(a)), a.w, dvec3(vec3(b)), b.w);
+  return linkStump(nodeAt(std::uint32_t(p)), nodeAt(node));
 }
 
 Box3 TubeSet::bounds(unsigned primitive) const
 {
+  if (Chunked)
+    return chunkBounds(primitive);
   const std::uint32_t node = nodeOf(primitive);
   Box3 box;
   if (primitive < Nodes.size())
@@ -208,55 +295,30 @@ Box3 TubeSet::bounds(unsigned primitive) const
     box.extend(sphereBox(Nodes[node]));
     box.extend(sphereBox(Nodes[std::size_t(Predecessors[node])]));
   }
-  const vec3 pad = 1e-6f * (glm::abs(box.lower) + glm::abs(box.upper) + vec3(1e-30f));
-  box.lower -= pad;
-  box.upper += pad;
-  return Box3{ vec3(Origin + dvec3(box.lower)), vec3(Origin + dvec3(box.upper)) };
+  return padAndPlace(box, Origin);
 }
 
 bool TubeSet::intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const
 {
-  // The nearest surface of the primitive's sphere and stump in (tnear, tfar): an interval's
-  // entry, or its exit when the ray starts inside. In the set's frame (t is the same there).
+  if (Chunked)
+    return intersectChunk(primitive, ray, hit);
+  // The nearest surface of the primitive's sphere and stump in (tnear, tfar), in the set's
+  // frame (t is the same there).
   const std::uint32_t node = nodeOf(primitive);
-  const dvec3 o = ray.origin - Origin, d = ray.direction;
-  const double tmin = ray.tnear, tmax = std::min(ray.tfar, 1e300);
-  double best = tmax;
-  dvec3 normal(0.0);
-  bool found = false;
-  auto consider = [&](double t0, double t1, auto normalAt)
-  {
-    const double t = t0 > tmin ? t0 : t1;
-    if (t > tmin && t < best)
-    {
-      best = t;
-      normal = normalAt(o + t * d);
-      found = true;
-    }
-  };
-  double t0, t1;
+  const double tmax = std::min(ray.tfar, 1e300);
+  NearestPart nearest{ ray.origin - Origin, ray.direction, ray.tnear, tmax };
   if (primitive < Nodes.size())
-  {
-    const dvec3 center = dvec3(vec3(Nodes[node]));
-    if (sphereInterval(center, Nodes[node].w, o, d, -1e300, 1e300, t0, t1))
-      consider(t0, t1, [&](const dvec3& p) { return p - center; });
-  }
+    nearest.sphere(Nodes[node], 2 * node);
   if (primitive >= Nodes.size() || Layout.primitives == TubeLayout::Primitives::Combined)
-  {
-    const ConeStump stump = stumpOf(node);
-    if (coneStumpInterval(stump, o, d, -1e300, 1e300, t0, t1))
-      consider(t0, t1, [&](const dvec3& p) { return coneStumpNormal(stump, p); });
-  }
-  if (!found || !(best < tmax))
-    return false;
-  hit.t = best;
-  hit.normal = vec3(normal);
-  return true;
+    nearest.stump(stumpOf(node), 2 * node + 1);
+  return nearest.report(tmax, hit);
 }
 
 void TubeSet::insideIntervals(unsigned primitive, const DoubleRay& ray, std::vector<InsideInterval>& out) const
 {
   // The whole line (t_r0 = -inf, Section 4.3.1), so a ray starting inside a tube knows it.
+  if (Chunked)
+    return chunkIntervals(primitive, ray, out);
   const std::uint32_t node = nodeOf(primitive);
   const dvec3 o = ray.origin - Origin, d = ray.direction;
   double t0, t1;
@@ -276,7 +338,7 @@ vec3 TubeSet::partNormal(std::uint32_t part, const dvec3& point) const
   const std::uint32_t node = part / 2;
   const dvec3 local = point - Origin;
   if (part % 2 == 0)
-    return vec3(local - dvec3(vec3(Nodes[node])));
+    return vec3(local - dvec3(vec3(nodeAt(node))));
   return vec3(coneStumpNormal(stumpOf(node), local));
 }
 
@@ -288,13 +350,154 @@ vec3 TubeSet::partColor(std::uint32_t part) const
 
 vec3 TubeSet::primitiveColor(unsigned primitive) const
 {
-  return partColor(2 * nodeOf(primitive));
+  return partColor(2 * nodeOfPrimitive(primitive));
+}
+
+std::uint32_t TubeSet::selectionIndex(unsigned primitive, std::uint32_t part) const
+{
+  if (!Chunked)
+    return primitive;
+  return part != SurfaceHit::kNoPart ? part / 2 : ChunkStarts[primitive];
+}
+
+std::int32_t TubeSet::predecessorOf(std::uint32_t node) const
+{
+  if (!Chunked)
+    return Predecessors[node];
+  const std::uint32_t chunk = chunkOf(node);
+  return node == ChunkStarts[chunk] ? ChunkPredecessors[chunk] : std::int32_t(node) - 1;
+}
+
+void TubeSet::buildChunks()
+{
+  // A chunk ends before a node that does not link to the node before it (a tube's start, a
+  // branch, a point whose predecessor was dropped) and after chunkSize nodes: its members'
+  // links are implicit. Its first node keeps its link to wherever it starts from.
+  const std::uint32_t n = std::uint32_t(Nodes.size());
+  const std::uint32_t most = Layout.chunkSize;
+  Positions.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i)
+    Positions[i] = vec3(Nodes[i]);
+  for (std::uint32_t i = 0; i < n;)
+  {
+    std::uint32_t end = i + 1;
+    while (end < n && end - i < most && Predecessors[end] == std::int32_t(end) - 1)
+      ++end;
+    ChunkStarts.push_back(i);
+    ChunkPredecessors.push_back(Predecessors[i]);
+    RadiusStarts.push_back(std::uint32_t(Radii.size()));
+    const bool constant =
+      std::all_of(Nodes.begin() + i, Nodes.begin() + end, [&](const vec4& v) { return v.w == Nodes[i].w; });
+    for (std::uint32_t k = i; k < (constant ? i + 1 : end); ++k)
+      Radii.push_back(Nodes[k].w);
+    i = end;
+  }
+  ChunkStarts.push_back(n);
+  RadiusStarts.push_back(std::uint32_t(Radii.size()));
+  ChunkStarts.shrink_to_fit();
+  ChunkPredecessors.shrink_to_fit();
+  RadiusStarts.shrink_to_fit();
+  Radii.shrink_to_fit();
+  std::vector<vec4>().swap(Nodes);
+  std::vector<std::int32_t>().swap(Predecessors);
+  Chunked = true;
+}
+
+std::uint32_t TubeSet::chunkOf(std::uint32_t node) const
+{
+  return std::uint32_t(std::upper_bound(ChunkStarts.begin(), ChunkStarts.end(), node) - ChunkStarts.begin()) - 1;
+}
+
+vec4 TubeSet::nodeAt(std::uint32_t node) const
+{
+  if (!Chunked)
+    return Nodes[node];
+  const std::uint32_t chunk = chunkOf(node);
+  const std::uint32_t r = RadiusStarts[chunk], count = RadiusStarts[chunk + 1] - r;
+  return vec4(Positions[node], Radii[count == 1 ? r : r + node - ChunkStarts[chunk]]);
+}
+
+namespace
+{
+/// Calls visit(node, its point and radius, its predecessor's or null) for each link of a chunk.
+template <class Visit>
+void forEachChunkLink(const std::vector<vec3>& positions, const std::vector<float>& radii,
+  std::uint32_t begin, std::uint32_t end, std::int32_t first, std::uint32_t radiusStart,
+  bool constant, const vec4& start, Visit&& visit)
+{
+  vec4 previous = start;
+  for (std::uint32_t node = begin; node < end; ++node)
+  {
+    const vec4 point(positions[node], radii[constant ? radiusStart : radiusStart + node - begin]);
+    visit(node, point, node > begin || first >= 0 ? &previous : nullptr);
+    previous = point;
+  }
+}
+} // namespace
+
+Box3 TubeSet::chunkBounds(unsigned chunk) const
+{
+  const std::uint32_t begin = ChunkStarts[chunk], end = ChunkStarts[chunk + 1];
+  const std::int32_t first = ChunkPredecessors[chunk];
+  // A link's stump lies in the hull of its spheres: the boxes of the chunk's spheres and of
+  // its first link's start hold all its links.
+  Box3 box;
+  if (first >= 0)
+    box.extend(sphereBox(nodeAt(std::uint32_t(first))));
+  const std::uint32_t r = RadiusStarts[chunk];
+  const bool constant = RadiusStarts[chunk + 1] - r == 1;
+  for (std::uint32_t node = begin; node < end; ++node)
+    box.extend(sphereBox(vec4(Positions[node], Radii[constant ? r : r + node - begin])));
+  return padAndPlace(box, Origin);
+}
+
+bool TubeSet::intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& hit) const
+{
+  // The nearest surface over the chunk's links, each tested as a combined primitive is.
+  const double tmax = std::min(ray.tfar, 1e300);
+  NearestPart nearest{ ray.origin - Origin, ray.direction, ray.tnear, tmax };
+  const std::int32_t first = ChunkPredecessors[chunk];
+  const std::uint32_t r = RadiusStarts[chunk];
+  forEachChunkLink(Positions, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], first, r,
+    RadiusStarts[chunk + 1] - r == 1, first >= 0 ? nodeAt(std::uint32_t(first)) : vec4(0.0f),
+    [&](std::uint32_t node, const vec4& point, const vec4* start)
+    {
+      if (linkMissed(nearest.o, nearest.d, nearest.tmin, nearest.best, start ? *start : point, point))
+        return;
+      nearest.sphere(point, 2 * node);
+      if (start)
+        nearest.stump(linkStump(*start, point), 2 * node + 1);
+    });
+  return nearest.report(tmax, hit);
+}
+
+void TubeSet::chunkIntervals(unsigned chunk, const DoubleRay& ray, std::vector<InsideInterval>& out) const
+{
+  const dvec3 o = ray.origin - Origin, d = ray.direction;
+  const std::int32_t first = ChunkPredecessors[chunk];
+  const std::uint32_t r = RadiusStarts[chunk];
+  forEachChunkLink(Positions, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], first, r,
+    RadiusStarts[chunk + 1] - r == 1, first >= 0 ? nodeAt(std::uint32_t(first)) : vec4(0.0f),
+    [&](std::uint32_t node, const vec4& point, const vec4* start)
+    {
+      if (linkMissed(o, d, -1e300, 1e300, start ? *start : point, point))
+        return;
+      double t0, t1;
+      if (sphereInterval(dvec3(vec3(point)), point.w, o, d, -1e300, 1e300, t0, t1))
+        out.push_back({ t0, t1, chunk, 2 * node });
+      if (start && coneStumpInterval(linkStump(*start, point), o, d, -1e300, 1e300, t0, t1))
+        out.push_back({ t0, t1, chunk, 2 * node + 1 });
+    });
 }
 
 std::size_t TubeSet::memoryBytes() const
 {
   return Nodes.capacity() * sizeof(vec4) + Predecessors.capacity() * sizeof(std::int32_t) +
     StumpEnds.capacity() * sizeof(std::uint32_t) + Stumps.capacity() * sizeof(StoredStump) +
-    Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t);
+    Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t) +
+    Positions.capacity() * sizeof(vec3) + Radii.capacity() * sizeof(float) +
+    ChunkStarts.capacity() * sizeof(std::uint32_t) +
+    ChunkPredecessors.capacity() * sizeof(std::int32_t) +
+    RadiusStarts.capacity() * sizeof(std::uint32_t);
 }
 } // namespace sightline

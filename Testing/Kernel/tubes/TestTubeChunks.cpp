@@ -1,0 +1,311 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The chunked tube layout (TubeLayout::Primitives::Chunked) against the combined on-the-fly one
+// it must reproduce: the same union of spheres and stumps pixel by pixel (coverage, depth within
+// 1e-6 of the radius), the same translucent union, picks that name a link whose own parts give
+// the hit, and less memory per link (geometry and BVH).
+#include "sightline/core/Camera.h"
+#include "sightline/core/EmbreeScene.h"
+#include "sightline/core/Renderer.h"
+#include "sightline/tubes/TubeSet.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+
+using namespace sightline;
+
+namespace
+{
+struct Tubes
+{
+  std::vector<vec3> points;
+  std::vector<float> radii;
+  std::vector<std::int64_t> predecessors;
+};
+
+/// Streamline-like runs with the cases chunks must handle: constant and varying radii, branches
+/// from earlier nodes (predecessor not the node before), zero-length links, a sphere that holds
+/// the next one, single-point tubes and runs longer than a chunk.
+Tubes randomTubes(unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.1f, 0.35f);
+  Tubes t;
+  auto add = [&](const vec3& p, float radius, std::int64_t predecessor)
+  {
+    t.points.push_back(p);
+    t.radii.push_back(radius);
+    t.predecessors.push_back(predecessor);
+  };
+  for (int run = 0; run < 12; ++run)
+  {
+    const bool constant = run % 2 == 0;
+    const float radius = r(rng);
+    const int length = 1 + int(rng() % 45u);
+    vec3 p(3.0f * u(rng), 3.0f * u(rng), 3.0f * u(rng));
+    add(p, radius, -1);
+    vec3 step = 0.3f * vec3(u(rng), u(rng), u(rng));
+    for (int k = 1; k < length; ++k)
+    {
+      const std::int64_t last = std::int64_t(t.points.size()) - 1;
+      const unsigned kind = rng() % 16u;
+      step = 0.8f * step + 0.12f * vec3(u(rng), u(rng), u(rng));
+      if (kind == 0) // zero-length link: the same point again
+        add(t.points.back(), t.radii.back(), last);
+      else if (kind == 1 && !constant) // a sphere inside the next one
+        add(t.points.back() + 0.05f * step, t.radii.back() + 0.3f, last);
+      else if (kind == 2 && k > 3) // a branch from an earlier node of this run
+        add(t.points[std::size_t(last - 2)] + 2.0f * vec3(step.z, step.x, step.y),
+          constant ? radius : r(rng), last - 2);
+      else
+      {
+        p = t.points.back() + step;
+        add(p, constant ? radius : r(rng), last);
+      }
+    }
+  }
+  return t;
+}
+
+TubeLayout chunked(unsigned size = TubeLayout::kDefaultChunkSize)
+{
+  TubeLayout layout;
+  layout.primitives = TubeLayout::Primitives::Chunked;
+  layout.chunkSize = size;
+  return layout;
+}
+
+struct View
+{
+  Camera camera;
+  Lighting lighting;
+};
+
+View viewOf(const Box3& box, int size)
+{
+  CameraParameters parameters;
+  const dvec3 center = 0.5 * (dvec3(box.lower) + dvec3(box.upper));
+  const double extent = glm::length(dvec3(box.upper) - dvec3(box.lower));
+  parameters.focalPoint = center;
+  parameters.position = center + extent * dvec3(0.3, 0.4, 1.1);
+  parameters.viewAngle = 40.0;
+  const Camera camera = Camera::fromParameters(parameters, size, size);
+  return { camera, Lighting::headlight(vec3(glm::normalize(parameters.focalPoint - parameters.position))) };
+}
+
+/// Whether combined primitive `node` alone (its sphere and stump) is hit at t.
+bool nodeHitAt(const TubeSet& combined, std::uint32_t node, const DoubleRay& ray, double t, double tolerance)
+{
+  SurfaceHit hit;
+  return combined.intersect(node, ray, hit) && std::abs(hit.t - t) <= tolerance;
+}
+
+/// Renders both layouts and compares them pixel by pixel; returns the pixels hit.
+int compareLayouts(const Tubes& tubes, const dvec3& origin, unsigned chunkSize)
+{
+  auto combined = std::make_shared<TubeSet>(origin, tubes.points, tubes.radii, tubes.predecessors);
+  auto chunks = std::make_shared<TubeSet>(origin, tubes.points, tubes.radii, tubes.predecessors,
+    std::vector<std::uint32_t>{}, chunked(chunkSize));
+  EXPECT_EQ(chunks->pointCount(), combined->pointCount());
+  EXPECT_EQ(chunks->linkCount(), combined->linkCount());
+  EXPECT_LT(chunks->size(), combined->size());
+  for (std::uint32_t node = 0; node < combined->pointCount(); ++node)
+    EXPECT_EQ(chunks->predecessorOf(node), combined->predecessorOf(node)) << "node " << node;
+  EmbreeScene a, b;
+  a.add(combined);
+  b.add(chunks);
+  a.commit();
+  b.commit();
+  const double tolerance = 1e-6 * 0.1; // the smallest radius of randomTubes
+  const View view = viewOf(combined->bounds(), 128);
+  RenderOptions options;
+  options.primitiveIds = true;
+  Framebuffer fa, fb;
+  Renderer().render(a, view.camera, view.lighting, fa, options);
+  Renderer().render(b, view.camera, view.lighting, fb, options);
+  int hits = 0, samePick = 0;
+  for (int py = 0; py < 128; ++py)
+    for (int px = 0; px < 128; ++px)
+    {
+      const std::size_t i = fa.index(px, py);
+      const DoubleRay ray = view.camera.doublePrimaryRay(px + 0.5, py + 0.5); // as the renderer's
+      SceneHit ha, hb;
+      const bool hitA = a.intersect(ray, ha), hitB = b.intersect(ray, hb);
+      EXPECT_EQ(hitA, hitB) << "pixel " << px << ", " << py;
+      EXPECT_EQ(fa.Color[i].a > 0.0f, fb.Color[i].a > 0.0f) << "pixel " << px << ", " << py;
+      if (!hitA || !hitB)
+        continue;
+      ++hits;
+      EXPECT_NEAR(ha.t, hb.t, tolerance) << "pixel " << px << ", " << py;
+      EXPECT_EQ(fa.Depth[i], fb.Depth[i]) << "pixel " << px << ", " << py;
+      // The pick names a link (node) whose own sphere and stump give this hit.
+      const std::uint32_t node = fb.Primitives[i].primitive;
+      // So does the link of a single ray's hit (it may be the other one of a tie: a packet
+      // visits chunks in another order).
+      EXPECT_TRUE(nodeHitAt(*combined, chunks->selectionIndex(hb.primID, hb.part), ray, hb.t, tolerance));
+      EXPECT_LT(node, combined->pointCount());
+      if (node < combined->pointCount())
+      {
+        EXPECT_TRUE(nodeHitAt(*combined, node, ray, hb.t, tolerance)) << "pixel " << px << ", " << py;
+      }
+      EXPECT_EQ(chunks->nodeOfSelection(node), node);
+      samePick += fa.Primitives[i].primitive == node;
+    }
+  // Ties (a duplicated point, a joint) may pick either link; nearly all picks agree.
+  EXPECT_GT(samePick, hits * 95 / 100);
+  return hits;
+}
+} // namespace
+
+TEST(TubeChunks, ChunkBoundariesFollowRuns)
+{
+  // 0-1-2-3-4 a run, 5 branches from 2, 6 continues 5, 7 starts a tube, 8-9 continue it.
+  std::vector<vec3> p;
+  for (int i = 0; i < 10; ++i)
+    p.push_back(vec3(float(i), 0, 0));
+  const std::vector<float> radii(10, 0.2f);
+  const std::vector<std::int64_t> predecessors{ -1, 0, 1, 2, 3, 2, 5, -1, 7, 8 };
+  const TubeSet two(p, radii, predecessors, {}, chunked(2));
+  // Chunks of two: [0 1] [2 3] [4] [5 6] [7 8] [9].
+  EXPECT_EQ(two.size(), 6u);
+  EXPECT_EQ(two.nodeOfPrimitive(3), 5u);
+  EXPECT_EQ(two.predecessorOf(5), 2);
+  EXPECT_EQ(two.predecessorOf(6), 5);
+  EXPECT_EQ(two.predecessorOf(7), -1);
+  EXPECT_EQ(two.predecessorOf(9), 8);
+  const TubeSet wide(p, radii, predecessors, {}, chunked(8));
+  EXPECT_EQ(wide.size(), 3u); // [0..4] [5 6] [7 8 9]
+  EXPECT_EQ(wide.layout().name(), "chunked (8 links), on-the-fly");
+  EXPECT_THROW(TubeSet(p, radii, predecessors, {}, chunked(0)), std::invalid_argument);
+}
+
+TEST(TubeChunks, DrawWhatCombinedLinksDraw)
+{
+  for (unsigned seed : { 1u, 2u, 3u })
+    for (unsigned size : { 4u, TubeLayout::kDefaultChunkSize })
+      EXPECT_GT(compareLayouts(randomTubes(seed), dvec3(0.0), size), 1000) << "seed " << seed;
+}
+
+TEST(TubeChunks, DrawWhatCombinedLinksDrawFarFromTheOrigin)
+{
+  // Points relative to a distant origin, as the mapper gives them: double rays in the set's frame.
+  EXPECT_GT(compareLayouts(randomTubes(7), dvec3(4.0e6, -2.5e6, 1.0e6), 8), 1000);
+}
+
+TEST(TubeChunks, TranslucentUnionIsTheSame)
+{
+  const Tubes tubes = randomTubes(11);
+  auto combined = std::make_shared<TubeSet>(tubes.points, tubes.radii, tubes.predecessors);
+  auto chunks = std::make_shared<TubeSet>(
+    tubes.points, tubes.radii, tubes.predecessors, std::vector<std::uint32_t>{}, chunked());
+  combined->material.opacity = chunks->material.opacity = 0.35f;
+  EmbreeScene a, b, empty;
+  a.add(combined);
+  b.add(chunks);
+  a.commit();
+  b.commit();
+  empty.commit();
+  const View view = viewOf(combined->bounds(), 96);
+  Framebuffer fa, fb;
+  RenderOptions options;
+  options.translucent.scene = &a;
+  Renderer().render(empty, view.camera, view.lighting, fa, options);
+  options.translucent.scene = &b;
+  Renderer().render(empty, view.camera, view.lighting, fb, options);
+  int covered = 0;
+  for (std::size_t i = 0; i < fa.pixelCount(); ++i)
+  {
+    covered += fa.Color[i].a > 0.0f;
+    EXPECT_NEAR(fa.Color[i].a, fb.Color[i].a, 1e-6f) << "pixel " << i;
+    EXPECT_NEAR(glm::length(vec3(fa.Color[i]) - vec3(fb.Color[i])), 0.0f, 1e-5f) << "pixel " << i;
+  }
+  EXPECT_GT(covered, 1000);
+  // The intervals of a chunk are those of its links, each naming the link's parts.
+  const Ray ray = view.camera.primaryRay(48.5, 48.5);
+  std::vector<InsideInterval> ia, ib;
+  for (unsigned p = 0; p < combined->size(); ++p)
+    combined->insideIntervals(p, ray, ia);
+  for (unsigned p = 0; p < chunks->size(); ++p)
+    chunks->insideIntervals(p, ray, ib);
+  ASSERT_EQ(ia.size(), ib.size());
+  for (std::size_t k = 0; k < ia.size(); ++k)
+  {
+    EXPECT_EQ(ia[k].part, ib[k].part);
+    EXPECT_EQ(ia[k].t0, ib[k].t0);
+    EXPECT_EQ(ia[k].t1, ib[k].t1);
+  }
+}
+
+TEST(TubeChunks, ColoursFollowTheLinkHit)
+{
+  // Two runs in one chunk size: each node's colour shows where its link is hit.
+  std::vector<vec3> p;
+  std::vector<float> radii;
+  std::vector<std::int64_t> predecessors;
+  std::vector<std::uint32_t> colors;
+  for (int i = 0; i < 8; ++i)
+  {
+    p.push_back(vec3(float(i) - 3.5f, 0, 0));
+    radii.push_back(0.3f);
+    predecessors.push_back(i - 1);
+    colors.push_back(i % 2 ? packRGBA8(255, 0, 0) : packRGBA8(0, 0, 255));
+  }
+  auto combined = std::make_shared<TubeSet>(p, radii, predecessors, colors);
+  auto chunks = std::make_shared<TubeSet>(p, radii, predecessors, colors, chunked());
+  ASSERT_EQ(chunks->size(), 1u);
+  EmbreeScene a, b;
+  a.add(combined);
+  b.add(chunks);
+  a.commit();
+  b.commit();
+  const View view = viewOf(combined->bounds(), 64);
+  Framebuffer fa, fb;
+  Renderer().render(a, view.camera, view.lighting, fa);
+  Renderer().render(b, view.camera, view.lighting, fb);
+  int red = 0, blue = 0;
+  for (std::size_t i = 0; i < fa.pixelCount(); ++i)
+  {
+    EXPECT_NEAR(glm::length(vec3(fa.Color[i]) - vec3(fb.Color[i])), 0.0f, 1e-5f) << "pixel " << i;
+    red += fb.Color[i].r > 2.0f * fb.Color[i].b;
+    blue += fb.Color[i].b > 2.0f * fb.Color[i].r;
+  }
+  EXPECT_GT(red, 100);
+  EXPECT_GT(blue, 100);
+}
+
+TEST(TubeChunks, LessMemoryPerLink)
+{
+  // A tractogram-like set: runs of 100 points of one radius each.
+  std::vector<vec3> p;
+  std::vector<float> radii;
+  std::vector<std::int64_t> predecessors;
+  for (int run = 0; run < 100; ++run)
+    for (int k = 0; k < 100; ++k)
+    {
+      p.push_back(vec3(float(k) * 0.1f, float(run % 10), float(run / 10)) + vec3(0, 0.01f * float(k % 3), 0));
+      radii.push_back(0.05f);
+      predecessors.push_back(k == 0 ? -1 : std::int64_t(p.size()) - 2);
+    }
+  auto combined = std::make_shared<TubeSet>(p, radii, predecessors);
+  auto chunks = std::make_shared<TubeSet>(p, radii, predecessors, std::vector<std::uint32_t>{}, chunked(16));
+  // 12 bytes of position per point; per chunk a start, a predecessor, a radius start and one
+  // radius (constant radius), and the two end markers. 100 runs of 100 points: 7 chunks each.
+  const std::size_t chunkCount = 100 * 7;
+  ASSERT_EQ(chunks->size(), chunkCount);
+  EXPECT_EQ(chunks->memoryBytes(), p.size() * 12 + chunkCount * 16 + 8);
+  EXPECT_EQ(combined->memoryBytes(), p.size() * 20);
+  EmbreeScene a, b;
+  a.add(combined);
+  b.add(chunks);
+  a.commit();
+  b.commit();
+  EXPECT_LT(b.bvhBytes() * 4, a.bvhBytes());
+
+  // Varying radii keep one per point.
+  for (std::size_t i = 0; i < radii.size(); ++i)
+    radii[i] = 0.05f + 0.001f * float(i % 7);
+  const TubeSet varying(p, radii, predecessors, {}, chunked(16));
+  EXPECT_EQ(varying.memoryBytes(), p.size() * 16 + chunkCount * 12 + 8);
+}

@@ -67,7 +67,8 @@ public:
     const std::vector<float>* depthLimit = nullptr) = 0;
 
   /// Hardware selection (vtkHardwareSelector): the input ids each traced primitive stands for,
-  /// indexed as the kernel's primitives (sightline::PixelPrimitive::primitive); -1 for none.
+  /// indexed as the kernel's pixels name them (sightline::PixelPrimitive::primitive: a
+  /// primitive, or a tube chunk's link, Geometry::selectionIndex); -1 for none.
   struct SelectionIds
   {
     std::vector<vtkIdType> PointIds;

@@ -249,11 +249,12 @@ const SightlineTracer::SelectionIds* vtkSightlineMapper::GetSelectionIds()
   if (in.SelectionTime.GetMTime() < in.BuildTime.GetMTime())
   {
     SelectionIds& ids = in.Selection;
-    const std::size_t n = in.Geometry->size();
+    // One per selectable element: a primitive, or a tube chunk's link.
+    const std::size_t n = in.Geometry->selectionCount();
     ids.PointIds.assign(n, -1);
     ids.CellIds.assign(n, -1);
     this->ComputeSelectionIds(ids.PointIds, ids.CellIds);
-    ids.PointIds.resize(n, -1); // whatever a subclass did, one per primitive
+    ids.PointIds.resize(n, -1); // whatever a subclass did, one per element
     ids.CellIds.resize(n, -1);
     ids.MaximumPointId = ids.PointIds.empty()
       ? -1

@@ -85,6 +85,7 @@ int vtkSightlineTubeMapper::GetVaryRadius()
 std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 {
   this->NumberOfLinks = 0;
+  this->BuiltLinkLayout = -1;
   // Called only with points to draw (an empty input draws nothing, quietly).
   vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
   const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
@@ -227,18 +228,28 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 
   try
   {
+    // Large sets (tractograms) are limited by bytes per link, which chunks cut.
+    int chosen = this->LinkLayout;
+    if (chosen == LINKS_AUTOMATIC)
+    {
+      chosen = static_cast<vtkIdType>(points.size()) >= this->AutomaticChunkedLinks
+        ? LINKS_CHUNKED
+        : LINKS_COMBINED_ON_THE_FLY;
+    }
     sightline::TubeLayout layout;
-    layout.primitives = this->LinkLayout >= LINKS_SEPARATE_ON_THE_FLY
-      ? sightline::TubeLayout::Primitives::Separate
-      : sightline::TubeLayout::Primitives::Combined;
-    layout.transforms = this->LinkLayout % 2 == 1 ? sightline::TubeLayout::Transforms::Precomputed
-                                                  : sightline::TubeLayout::Transforms::OnTheFly;
+    layout.primitives = chosen == LINKS_CHUNKED ? sightline::TubeLayout::Primitives::Chunked
+      : chosen >= LINKS_SEPARATE_ON_THE_FLY   ? sightline::TubeLayout::Primitives::Separate
+                                              : sightline::TubeLayout::Primitives::Combined;
+    layout.transforms = chosen % 2 == 1 && chosen != LINKS_CHUNKED
+      ? sightline::TubeLayout::Transforms::Precomputed
+      : sightline::TubeLayout::Transforms::OnTheFly;
     std::vector<sightline::vec3> local;
     const sightline::dvec3 origin = SightlineKernelConversions::ToLocalFrame(points, local);
     auto tubes =
       std::make_shared<sightline::TubeSet>(origin, local, radii, predecessors, colors, layout);
     SightlineKernelConversions::WarnAboutReport(this, tubes->report());
     this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
+    this->BuiltLinkLayout = chosen;
     return tubes;
   }
   catch (const std::exception& e)
@@ -290,7 +301,8 @@ void vtkSightlineTubeMapper::ComputeSelectionIds(
   }
   for (std::size_t p = 0; p < pointIds.size(); ++p)
   {
-    const std::uint32_t node = tubes->nodeOfPrimitive(static_cast<unsigned>(p));
+    // p is a primitive, or with chunks the link hit (Geometry::selectionIndex).
+    const std::uint32_t node = tubes->nodeOfSelection(static_cast<std::uint32_t>(p));
     const std::int32_t predecessor = tubes->predecessorOf(node);
     const std::size_t own = tubes->sourceIndexOf(node);
     const std::size_t start =
@@ -313,6 +325,10 @@ const char* vtkSightlineTubeMapper::GetLinkLayoutAsString()
       return "SeparateOnTheFly";
     case LINKS_SEPARATE_PRECOMPUTED:
       return "SeparatePrecomputed";
+    case LINKS_CHUNKED:
+      return "Chunked";
+    case LINKS_AUTOMATIC:
+      return "Automatic";
     default:
       return "CombinedOnTheFly";
   }
@@ -358,5 +374,7 @@ void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PredecessorArrayName: "
      << (this->PredecessorArrayName ? this->PredecessorArrayName : "(polylines)") << "\n";
   os << indent << "LinkLayout: " << this->GetLinkLayoutAsString() << "\n";
+  os << indent << "BuiltLinkLayout: " << this->BuiltLinkLayout << "\n";
+  os << indent << "AutomaticChunkedLinks: " << this->AutomaticChunkedLinks << "\n";
   os << indent << "NumberOfLinks: " << this->NumberOfLinks << "\n";
 }

@@ -36,10 +36,14 @@
  * the predecessor (POINTS; the point itself for a tube's first sphere). Translucent tubes are
  * selected at their nearest surface.
  *
- * LinkLayout picks one of the paper's four implementation choices (Table 1); they draw the
- * same image and differ in memory and speed (see Benchmarks/README.md). The default,
- * combined links with stumps computed on the fly, uses the least memory (20 bytes per link
- * plus the BVH) and was the fastest or within 5 % of it in our measurements.
+ * LinkLayout picks one of the paper's four implementation choices (Table 1) or the chunked
+ * layout (runs of up to 8 consecutive links as one BVH primitive, for tractograms of 10^8
+ * links and more); they draw the same image and differ in memory and speed (see
+ * Benchmarks/README.md and Documentation/tubes.md). The default, LINKS_AUTOMATIC, takes
+ * combined links with stumps computed on the fly (20 bytes per link plus ~94 of BVH; the
+ * fastest or within 5 % of it) below AutomaticChunkedLinks control points, and chunked links
+ * (13.5 bytes per link with one radius per tube, 17.5 with varying radii, plus ~11 of BVH;
+ * frames about 1.8 times slower) from there on, where memory is what limits.
  *
  * @sa vtkSightlineSWCReader vtkSightlineTrackVisReader vtkSightlineTCKReader vtkTubeFilter
  */
@@ -112,19 +116,34 @@ public:
     LINKS_COMBINED_ON_THE_FLY = 0,
     LINKS_COMBINED_PRECOMPUTED,
     LINKS_SEPARATE_ON_THE_FLY,
-    LINKS_SEPARATE_PRECOMPUTED
+    LINKS_SEPARATE_PRECOMPUTED,
+    LINKS_CHUNKED,  ///< up to 8 consecutive links of a tube per BVH primitive
+    LINKS_AUTOMATIC ///< LINKS_CHUNKED from AutomaticChunkedLinks points, else combined
   };
+
+  /**
+   * Control points from which LINKS_AUTOMATIC takes chunks. Default 10,000,000: there the
+   * combined layout holds about 1.1 GB and chunks save about 0.85 GB, at frames about 1.8
+   * times slower (1M-link benchmark); below, speed wins.
+   */
+  vtkSetClampMacro(AutomaticChunkedLinks, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(AutomaticChunkedLinks, vtkIdType);
 
   ///@{
   /**
-   * The link primitive: a link's sphere and cone stump as one BVH primitive or two, and the
-   * stump's parameters stored or computed at every ray test. Default
-   * LINKS_COMBINED_ON_THE_FLY.
+   * The link primitive: a link's sphere and cone stump as one BVH primitive or two, or a run
+   * of links as one, and the stump's parameters stored or computed at every ray test. The
+   * numbers of the first four stay as they were. Default LINKS_AUTOMATIC.
    */
-  vtkSetClampMacro(LinkLayout, int, LINKS_COMBINED_ON_THE_FLY, LINKS_SEPARATE_PRECOMPUTED);
+  vtkSetClampMacro(LinkLayout, int, LINKS_COMBINED_ON_THE_FLY, LINKS_AUTOMATIC);
   vtkGetMacro(LinkLayout, int);
   const char* GetLinkLayoutAsString();
   ///@}
+
+  /**
+   * The layout the last build used (LINKS_AUTOMATIC resolved), -1 before any.
+   */
+  vtkGetMacro(BuiltLinkLayout, int);
 
   /**
    * Control points of the last build (each with its link to a predecessor, if any).
@@ -160,7 +179,9 @@ protected:
   double RadiusScale = 1.0;
   double RadiusFactor = 10.0;
   char* PredecessorArrayName = nullptr;
-  int LinkLayout = LINKS_COMBINED_ON_THE_FLY;
+  int LinkLayout = LINKS_AUTOMATIC;
+  int BuiltLinkLayout = -1;
+  vtkIdType AutomaticChunkedLinks = 10000000;
   vtkIdType NumberOfLinks = 0;
 
 private:

@@ -39,6 +39,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <vector>
 
 using namespace sightline_test;
@@ -393,18 +394,21 @@ vtkSmartPointer<vtkPolyData> TubeTree()
   return tree;
 }
 
-class TubeSelection : public ::testing::TestWithParam<double>
+/// Opacity and link layout: chunks (several links per kernel primitive) must still name the
+/// link a pixel shows.
+class TubeSelection : public ::testing::TestWithParam<std::tuple<double, int>>
 {
 };
 } // namespace
 
 TEST_P(TubeSelection, LinksSelectTheirPolylineAndStartPoint)
 {
-  const double opacity = GetParam();
+  const double opacity = std::get<0>(GetParam());
   MapperScene<vtkSightlineTubeMapper> scene(kSize, kSize);
   vtkNew<MessageCollector> messages;
   messages->Observe(scene.mapper);
   auto tree = TubeTree();
+  scene.mapper->SetLinkLayout(std::get<1>(GetParam()));
   scene.mapper->SetInputDataObject(tree);
   scene.mapper->SetRadius(0.15);
   scene.actor->GetProperty()->SetOpacity(opacity);
@@ -434,6 +438,11 @@ TEST_P(TubeSelection, LinksSelectTheirPolylineAndStartPoint)
   EXPECT_TRUE(messages->Errors.empty() && messages->Warnings.empty());
 }
 
-INSTANTIATE_TEST_SUITE_P(Opacity, TubeSelection, ::testing::Values(1.0, 0.4),
-  [](const ::testing::TestParamInfo<double>& info)
-  { return info.param < 1.0 ? "Translucent" : "Opaque"; });
+INSTANTIATE_TEST_SUITE_P(OpacityAndLayout, TubeSelection,
+  ::testing::Combine(::testing::Values(1.0, 0.4),
+    ::testing::Values(vtkSightlineTubeMapper::LINKS_COMBINED_ON_THE_FLY, vtkSightlineTubeMapper::LINKS_CHUNKED)),
+  [](const ::testing::TestParamInfo<std::tuple<double, int>>& info)
+  {
+    return std::string(std::get<0>(info.param) < 1.0 ? "Translucent" : "Opaque") +
+      (std::get<1>(info.param) == vtkSightlineTubeMapper::LINKS_CHUNKED ? "Chunked" : "Combined");
+  });

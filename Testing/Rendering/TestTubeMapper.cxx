@@ -22,6 +22,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -36,7 +37,8 @@ using Scene = MapperScene<vtkSightlineTubeMapper>;
 
 // asGrid: the reader's polylines as VTK_POLY_LINE cells of a vtkUnstructuredGrid (vtkAppendFilter),
 // the form in which ParaView's RedistributeDataSet hands each MPI rank its piece.
-vtkSmartPointer<vtkImageData> RenderNeuron(bool fromParents, bool asGrid = false)
+vtkSmartPointer<vtkImageData> RenderNeuron(bool fromParents, bool asGrid = false,
+  int layout = vtkSightlineTubeMapper::LINKS_AUTOMATIC)
 {
   vtkNew<vtkSightlineSWCReader> reader;
   reader->SetFileName((std::string(SIGHTLINE_SOURCE_DIR) + "/Testing/Data/SWC/neuron_three_point_soma.swc").c_str());
@@ -45,6 +47,7 @@ vtkSmartPointer<vtkImageData> RenderNeuron(bool fromParents, bool asGrid = false
   Scene scene(320, 240);
   scene.mapper->SetInputConnection(asGrid ? toGrid->GetOutputPort() : reader->GetOutputPort());
   scene.mapper->SetRadiusArrayName("Radius");
+  scene.mapper->SetLinkLayout(layout);
   scene.mapper->ScalarVisibilityOff();
   if (fromParents)
     scene.mapper->SetPredecessorArrayName("ParentIndex");
@@ -58,6 +61,9 @@ vtkSmartPointer<vtkImageData> RenderNeuron(bool fromParents, bool asGrid = false
   scene.window->Render();
   // 12 samples; the 8 polylines (unbranched chains) repeat each chain start: 19 control points.
   EXPECT_EQ(scene.mapper->GetNumberOfLinks(), fromParents ? 12 : 19);
+  // Small inputs: the automatic layout is the combined one.
+  EXPECT_EQ(scene.mapper->GetBuiltLinkLayout(),
+    layout == vtkSightlineTubeMapper::LINKS_AUTOMATIC ? vtkSightlineTubeMapper::LINKS_COMBINED_ON_THE_FLY : layout);
   return CaptureRGB(scene.window);
 }
 
@@ -82,6 +88,36 @@ TEST(TubeMapper, NeuronFromParentsAndFromPolylinesMatchesBaseline)
   EXPECT_GT(CoveredPixels(parents), 8000);
   EXPECT_LE(MaxRGBDifference(parents, polylines), 1);
   EXPECT_TRUE(MatchesBaseline(parents, "TubeNeuron", 0.5));
+}
+
+// Chunks of links (the tractogram layout) draw the same tubes as one primitive per link, with
+// bifurcations (predecessors that are not the previous point) and varying radii; the automatic
+// layout takes chunks from AutomaticChunkedLinks points on.
+TEST(TubeMapper, ChunkedLinksDrawTheSameNeuron)
+{
+  for (bool fromParents : { true, false })
+  {
+    auto combined = RenderNeuron(fromParents, false, vtkSightlineTubeMapper::LINKS_COMBINED_ON_THE_FLY);
+    auto chunked = RenderNeuron(fromParents, false, vtkSightlineTubeMapper::LINKS_CHUNKED);
+    EXPECT_GT(CoveredPixels(chunked), 8000);
+    EXPECT_LE(MaxRGBDifference(combined, chunked), 1);
+  }
+
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < 5000; ++i)
+    points.push_back({ 1e-3 * i, std::sin(1e-2 * i), 0.0 });
+  Scene scene(64, 64);
+  scene.mapper->SetInputDataObject(Polyline(points));
+  scene.mapper->SetAutomaticChunkedLinks(5001);
+  scene.window->Render();
+  EXPECT_EQ(scene.mapper->GetBuiltLinkLayout(), vtkSightlineTubeMapper::LINKS_COMBINED_ON_THE_FLY);
+  scene.mapper->SetAutomaticChunkedLinks(5000);
+  scene.mapper->SetRadius(0.05);
+  scene.renderer->ResetCamera();
+  scene.window->Render();
+  EXPECT_EQ(scene.mapper->GetBuiltLinkLayout(), vtkSightlineTubeMapper::LINKS_CHUNKED);
+  EXPECT_GT(CoveredPixels(CaptureRGB(scene.window)), 100);
+  EXPECT_STREQ(scene.mapper->GetLinkLayoutAsString(), "Automatic");
 }
 
 // Polylines in an unstructured grid (VTK_POLY_LINE cells) are the same tubes as in vtkPolyData:

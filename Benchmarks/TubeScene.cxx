@@ -12,6 +12,8 @@
 //   surfaces there do not show in opaque images);
 // - sightline:<layout>: the four implementation choices of the paper's Table 1 (combined /
 //   separate primitives x on-the-fly / precomputed stumps), opaque first-hit traversal;
+// - sightline:chunked-K: runs of up to K consecutive links as one BVH primitive (K = 4, 8, 16,
+//   32; the tractogram layout, TubeLayout::Primitives::Chunked), opaque first-hit traversal;
 // - sightline-csg: the default layout through the translucent (all-hit CSG union) path at
 //   opacity 1, the paper's Section 6.3 measure of the CSG overhead;
 // - sightline-translucent-0.4: the same at opacity 0.4, a real transparent frame (its image is
@@ -362,6 +364,30 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
       if (isDefault)
         defaultBuildSeconds = seconds;
     }
+  // Chunks of K links: the BVH shrinks about K-fold, each hit tests up to K links.
+  for (unsigned chunk : { 4u, 8u, 16u, 32u })
+  {
+    const std::string method = "sightline:chunked-" + std::to_string(chunk);
+    if (!options.wantsMethod(method))
+      continue;
+    logProgress(name + ": sightline " + method);
+    TubeLayout layout;
+    layout.primitives = TubeLayout::Primitives::Chunked;
+    layout.chunkSize = chunk;
+    std::shared_ptr<BuiltScene> built;
+    const double seconds = timeOnce([&]
+      {
+        built = std::make_shared<BuiltScene>(withMaterial(std::make_shared<sightline::TubeSet>(
+          tree.points, tree.radii, tree.predecessors, tree.colors, layout)));
+      });
+    methods.push_back(prepareMethod(view, method, built, nullptr, opaque, seconds, links));
+    std::ostringstream notes;
+    notes << built->scene->geometry(0).size() << " primitives; geometry "
+          << fixed(double(built->scene->geometryBytes()) / links, 1) << " + BVH "
+          << fixed(double(built->scene->bvhBytes()) / links, 1) << " B/link (colours not counted: "
+          << "4 B/point)";
+    methods.back()->result.notes = notes.str();
+  }
   {
     // The CSG union path over the default layout's BVH: an empty opaque scene, the tubes as the
     // translucent scene.
@@ -474,7 +500,8 @@ const SceneRegistration neurons{ "tubes",
   { 100000, 1000000, 10000000 }, &runNeuronScene };
 
 const SceneRegistration chains{ "tube-chains",
-  "generalized tubes on non-branching streamlines with varying radius: Sightline's layouts vs "
+  "generalized tubes on non-branching streamlines with varying radius: Sightline's layouts "
+  "(chunked ones included) vs "
   "Embree's round linear curves vs vtkTubeFilter tessellations",
   { 100000, 1000000 }, &runChainScene };
 } // namespace

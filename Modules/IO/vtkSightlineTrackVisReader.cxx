@@ -57,11 +57,48 @@ private:
   bool Swap;
 };
 
-/// The name in a fixed 20-byte header field (NUL-padded), or `fallback` when empty.
-std::string FieldName(const char* bytes, const std::string& fallback)
+/// A run of per-point scalars or per-streamline properties stored as one array.
+struct ValueArray
 {
-  std::string name(bytes, strnlen(bytes, 20));
-  return name.empty() ? fallback : name;
+  std::string Name;
+  int First = 0; ///< its first value among the point's (streamline's) values
+  int Count = 1; ///< its components
+};
+
+/// The arrays of `values` values named by the ten 20-byte fields at `fields`. A field
+/// "NAME\0COUNT" names COUNT consecutive values (nibabel's convention for vectors such as
+/// colours); values no field names become one-component arrays "<fallback><index>".
+std::vector<ValueArray> ValueArrays(const char* fields, int values, const std::string& fallback)
+{
+  std::vector<ValueArray> arrays;
+  int next = 0;
+  for (int f = 0; f < 10 && next < values; ++f)
+  {
+    const char* field = fields + 20 * f;
+    const std::size_t length = strnlen(field, 20);
+    if (length == 0)
+    {
+      break;
+    }
+    int count = 1;
+    if (length + 1 < 20)
+    {
+      const std::string rest(field + length + 1, strnlen(field + length + 1, 19 - length));
+      if (!rest.empty() && rest.size() <= 3 &&
+        rest.find_first_not_of("0123456789") == std::string::npos)
+      {
+        count = std::max(1, std::stoi(rest));
+      }
+    }
+    count = std::min(count, values - next);
+    arrays.push_back({ std::string(field, length), next, count });
+    next += count;
+  }
+  for (; next < values; ++next)
+  {
+    arrays.push_back({ fallback + std::to_string(next), next, 1 });
+  }
+  return arrays;
 }
 
 /// Orientation of voxel axis j of a matrix: the world axis (0 x/R, 1 y/A, 2 z/S) it runs along
@@ -310,16 +347,18 @@ int vtkSightlineTrackVisReader::RequestData(
   const long long bodySize = input.Size() - kHeaderSize;
   vtkNew<vtkPoints> points;
   vtkNew<vtkCellArray> lines;
-  std::vector<vtkSmartPointer<vtkFloatArray>> scalarArrays(scalars), propertyArrays(properties);
-  for (int s = 0; s < scalars; ++s)
+  const std::vector<ValueArray> scalarRuns = ValueArrays(header + 38, scalars, "scalar_");
+  const std::vector<ValueArray> propertyRuns = ValueArrays(header + 240, properties, "property_");
+  std::vector<vtkSmartPointer<vtkFloatArray>> scalarArrays, propertyArrays;
+  for (const auto& [runs, arrays] :
+    { std::make_pair(&scalarRuns, &scalarArrays), std::make_pair(&propertyRuns, &propertyArrays) })
   {
-    scalarArrays[s] = vtkSmartPointer<vtkFloatArray>::New();
-    scalarArrays[s]->SetName(sightline_io::Quote(FieldName(header + 38 + 20 * s, "scalar_" + std::to_string(s))).c_str());
-  }
-  for (int p = 0; p < properties; ++p)
-  {
-    propertyArrays[p] = vtkSmartPointer<vtkFloatArray>::New();
-    propertyArrays[p]->SetName(sightline_io::Quote(FieldName(header + 240 + 20 * p, "property_" + std::to_string(p))).c_str());
+    for (const ValueArray& run : *runs)
+    {
+      arrays->push_back(vtkSmartPointer<vtkFloatArray>::New());
+      arrays->back()->SetNumberOfComponents(run.Count);
+      arrays->back()->SetName(sightline_io::Quote(run.Name).c_str());
+    }
   }
   const std::size_t pointBytes = 4u * (3u + scalars);
   const std::int32_t expected = decode.Get<std::int32_t>(header + 988);
@@ -429,14 +468,22 @@ int vtkSightlineTrackVisReader::RequestData(
     {
       points->InsertNextPoint(&mapped[3 * k]);
       lines->InsertCellPoint(first + k);
-      for (int s = 0; s < scalars; ++s)
+      for (std::size_t a = 0; a < scalarRuns.size(); ++a)
       {
-        scalarArrays[s]->InsertNextValue(decode.Get<float>(data + k * pointBytes + 12 + 4 * s));
+        for (int c = 0; c < scalarRuns[a].Count; ++c)
+        {
+          scalarArrays[a]->InsertNextValue(
+            decode.Get<float>(data + k * pointBytes + 12 + 4 * (scalarRuns[a].First + c)));
+        }
       }
     }
-    for (int q = 0; q < properties; ++q)
+    for (std::size_t a = 0; a < propertyRuns.size(); ++a)
     {
-      propertyArrays[q]->InsertNextValue(decode.Get<float>(data + count * pointBytes + 4 * q));
+      for (int c = 0; c < propertyRuns[a].Count; ++c)
+      {
+        propertyArrays[a]->InsertNextValue(
+          decode.Get<float>(data + count * pointBytes + 4 * (propertyRuns[a].First + c)));
+      }
     }
   }
   if (skipped > 0)

@@ -15,7 +15,8 @@
  * order LPS when it has none, TrackVis' defaults). CoordinatesVoxmm keeps the raw values.
  *
  * Output: one polyline per streamline; per-point scalars and per-cell properties as arrays
- * named from the header ("scalar_<i>" / "property_<i>" when unnamed). Errors: a missing file,
+ * named from the header ("scalar_<i>" / "property_<i>" when unnamed; a name "NAME\0COUNT", as
+ * nibabel writes vectors such as colours, is one array of COUNT components). Errors: a missing file,
  * no "TRACK" id, a header size that is not 1000 in either byte order, a negative point count,
  * and (when mapping to RAS) a voxel order that names an axis twice (e.g. "RAR") or a
  * voxel-to-RAS matrix that is not finite and invertible. Warnings: a file cut inside a

@@ -594,7 +594,24 @@ int vtkSightlineTRXReader::RequestData(
   }
   const std::uint64_t firstVertex = starts.front();
   const std::uint64_t vertices = starts.back() - firstVertex;
-  const std::uint64_t lines = last - first;
+  const std::uint64_t streamlines = last - first;
+  // A vtkPolyData line needs two points (VTK refuses to build cells otherwise): shorter
+  // streamlines are left out (with their dps rows and group memberships; a lone vertex stays
+  // among the points, unused), and the cells are the others in file order.
+  std::vector<vtkIdType> cellOf(streamlines, -1);
+  vtkIdType lines = 0;
+  for (std::uint64_t i = 0; i < streamlines; ++i)
+  {
+    cellOf[i] = starts[i + 1] - starts[i] >= 2 ? lines++ : -1;
+  }
+  if (static_cast<std::uint64_t>(lines) < streamlines)
+  {
+    vtkWarningMacro(<< name << ": " << streamlines - static_cast<std::uint64_t>(lines)
+                    << " streamlines with fewer than two vertices are left out (the first is number "
+                    << first + static_cast<std::uint64_t>(
+                         std::find(cellOf.begin(), cellOf.end(), -1) - cellOf.begin())
+                    << ")");
+  }
 
   try
   {
@@ -621,18 +638,26 @@ int vtkSightlineTRXReader::RequestData(
         }
       }
     }
+    // Cell c runs over connectivity [offset c, offset c + 1): the vertex ids of the kept
+    // streamlines, one after the other (0, 1, 2, ... when none is left out).
     vtkNew<vtkIdTypeArray> cellOffsets;
-    cellOffsets->SetNumberOfValues(static_cast<vtkIdType>(lines + 1));
-    for (std::uint64_t i = 0; i <= lines; ++i)
-    {
-      cellOffsets->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(starts[i] - firstVertex));
-    }
+    cellOffsets->SetNumberOfValues(lines + 1);
     vtkNew<vtkIdTypeArray> connectivity;
     connectivity->SetNumberOfValues(static_cast<vtkIdType>(vertices));
-    for (vtkIdType v = 0; v < static_cast<vtkIdType>(vertices); ++v)
+    vtkIdType used = 0;
+    cellOffsets->SetValue(0, 0);
+    for (std::uint64_t i = 0; i < streamlines; ++i)
     {
-      connectivity->SetValue(v, v);
+      if (cellOf[i] >= 0)
+      {
+        for (std::uint64_t v = starts[i]; v < starts[i + 1]; ++v)
+        {
+          connectivity->SetValue(used++, static_cast<vtkIdType>(v - firstVertex));
+        }
+        cellOffsets->SetValue(cellOf[i] + 1, used);
+      }
     }
+    connectivity->SetNumberOfValues(used);
     vtkNew<vtkCellArray> cells;
     cells->SetData(cellOffsets, connectivity);
 
@@ -663,9 +688,21 @@ int vtkSightlineTRXReader::RequestData(
     }
     for (const Array& data : dps)
     {
-      if (!readData(data, first, lines, result->GetCellData(), data.Name.Base))
+      if (!readData(data, first, streamlines, result->GetCellData(), data.Name.Base))
       {
         return fail(error);
+      }
+      if (lines < static_cast<vtkIdType>(streamlines))
+      {
+        vtkDataArray* values = result->GetCellData()->GetArray(data.Name.Base.c_str());
+        for (std::uint64_t i = 0; i < streamlines; ++i)
+        {
+          if (cellOf[i] >= 0)
+          {
+            values->SetTuple(cellOf[i], static_cast<vtkIdType>(i), values);
+          }
+        }
+        values->SetNumberOfTuples(lines);
       }
     }
     std::vector<std::uint64_t> members;
@@ -673,7 +710,7 @@ int vtkSightlineTRXReader::RequestData(
     {
       vtkNew<vtkUnsignedCharArray> in;
       in->SetName(("group:" + group.Name.Base).c_str());
-      in->SetNumberOfValues(static_cast<vtkIdType>(lines));
+      in->SetNumberOfValues(lines);
       in->FillValue(0);
       constexpr std::uint64_t kRows = kBlockBytes / 8;
       std::unique_ptr<MemberStream> stream = source.OpenMember(*group.Member, error);
@@ -694,9 +731,9 @@ int vtkSightlineTRXReader::RequestData(
             return fail(Quote(group.Member->Path) + " names streamline " + std::to_string(s) +
               " of NB_STREAMLINES " + std::to_string(streamlineCount));
           }
-          if (s >= first && s < last)
+          if (s >= first && s < last && cellOf[s - first] >= 0)
           {
-            in->SetValue(static_cast<vtkIdType>(s - first), 1);
+            in->SetValue(cellOf[s - first], 1);
           }
         }
       }

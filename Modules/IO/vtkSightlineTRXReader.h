@@ -12,8 +12,9 @@
  * - `dpv/NAME[.COLUMNS].DTYPE`, `dps/...`: data per vertex and per streamline;
  * - `groups/NAME.DTYPE`: streamline indices; `dpg/GROUP/NAME...`: data per group.
  *
- * Output: one polyline per streamline, in file order (streamlines with no vertices are empty
- * cells, so cell ids stay streamline indices). Points are float for float16 and float32 positions
+ * Output: one polyline per streamline, in file order. Streamlines of fewer than two vertices,
+ * which a vtkPolyData line cannot be, are left out with a warning (with their dps rows and group
+ * memberships; their vertices stay, unused, so that dpv stays whole). Points are float for float16 and float32 positions
  * (float16 converts exactly) and double for float64. dpv become point data and dps cell data, of
  * the member's dtype (float16 as float, bit as unsigned char); each group becomes a cell-data
  * unsigned char array `group:NAME` (1 for its streamlines); dpg become field data

@@ -87,9 +87,11 @@ def sequence(lengths, rows):
     return result
 
 
-def make_trx(rng, positions_dtype, count=40):
-    lengths = rng.integers(1, 25, size=count)
-    lengths[3] = 0  # an empty streamline keeps its cell
+def make_trx(rng, positions_dtype, count=40, short=True):
+    lengths = rng.integers(2, 25, size=count)
+    if short:
+        lengths[3] = 0  # an empty streamline, in group AF_R
+        lengths[9] = 1  # a lone vertex
     vertices = int(lengths.sum())
     trx = TrxFile(nb_vertices=vertices, nb_streamlines=count)
     trx.streamlines = sequence(lengths, (rng.normal(size=(vertices, 3)) * 50).astype(positions_dtype))
@@ -120,10 +122,17 @@ class Reference(unittest.TestCase):
         self.assertEqual(points.dtype, expected_type, path)
         # Bit for bit: float16 widens exactly.
         self.assertTrue(np.array_equal(points, data.astype(expected_type)), path)
+        # Streamlines of fewer than two vertices are no cells (a VTK line needs two).
+        lengths = np.asarray(reference.streamlines._lengths)
+        kept = np.flatnonzero(lengths >= 2)
         offsets = lines_of(output)
-        self.assertEqual(len(offsets), len(reference.streamlines) + 1)
-        self.assertTrue(np.array_equal(offsets[:-1], reference.streamlines._offsets), path)
-        self.assertTrue(np.array_equal(np.diff(offsets), reference.streamlines._lengths), path)
+        self.assertEqual(len(offsets), len(kept) + 1)
+        self.assertTrue(np.array_equal(np.diff(offsets), lengths[kept]), path)
+        # Each cell's points are its streamline's vertices, in order.
+        ids = vtk_to_numpy(output.GetLines().GetConnectivityArray())
+        expected = np.concatenate([np.arange(start, start + n) for start, n in zip(
+            np.asarray(reference.streamlines._offsets)[kept], lengths[kept])])
+        self.assertTrue(np.array_equal(ids, expected), path)
         point_data = arrays(output.GetPointData())
         self.assertEqual(set(point_data), set(reference.data_per_vertex))
         for name, values in reference.data_per_vertex.items():
@@ -132,10 +141,11 @@ class Reference(unittest.TestCase):
         self.assertEqual(set(cell_data), set(reference.data_per_streamline) |
                          {"group:" + g for g in reference.groups})
         for name, values in reference.data_per_streamline.items():
-            self.assertTrue(np.array_equal(column(cell_data[name]), values), (path, name))
+            self.assertTrue(np.array_equal(column(cell_data[name]), values[kept]), (path, name))
         for name, members in reference.groups.items():
-            flags = cell_data["group:" + name]
-            self.assertTrue(np.array_equal(np.flatnonzero(flags), np.sort(members)), name)
+            flags = np.zeros(len(lengths), bool)
+            flags[members] = True
+            self.assertTrue(np.array_equal(cell_data["group:" + name] != 0, flags[kept]), name)
         field = arrays(output.GetFieldData())
         for group, data in reference.data_per_group.items():
             for name, values in data.items():
@@ -155,6 +165,7 @@ class Reference(unittest.TestCase):
                                           ("directory", None)):
                     path = os.path.join(folder, f"{np.dtype(dtype).name}_{form}" +
                                         ("" if compression is None else ".trx"))
+                    self.assertEqual(list(trx.streamlines._lengths[[3, 9]]), [0, 1])
                     if compression is None:
                         save(trx, path)
                     else:
@@ -162,6 +173,9 @@ class Reference(unittest.TestCase):
                     self.assertTrue(sightline.vtkSightlineTRXReader.CanReadFile(path), path)
                     output, messages = read(path)
                     self.assertEqual(messages.errors, [], path)
+                    self.assertTrue(any("2 streamlines with fewer than two vertices are left out "
+                                        "(the first is number 3)" in w for w in messages.warnings),
+                                    path)
                     reference = load(path)
                     self.check_same(output, reference, path)
                     reference.close()
@@ -170,7 +184,7 @@ class Reference(unittest.TestCase):
         rng = np.random.default_rng(11)
         with tempfile.TemporaryDirectory() as folder:
             source = os.path.join(folder, "source.trx")
-            save(make_trx(rng, np.float32), source)
+            save(make_trx(rng, np.float32, short=False), source)
             output, _ = read(source)
             for name, settings in (("stored.trx", {}), ("deflated.trx", {"Compress": True}),
                                    ("directory", {"WriteToDirectory": True}),

@@ -6,7 +6,9 @@
 Each FILE goes to the Sightline mapper that fits it, all in one window (or, with --output, one
 image rendered without a window or OpenGL by vtkSightlineImageRenderer):
 
-  .trk .tck            streamlines (TrackVis, MRtrix3) -> exact tubes, direction colours
+  .trk .tck .trx       streamlines (TrackVis, MRtrix3, TRX: file or directory) -> exact tubes,
+                       direction colours, or --color ARRAY (per point or per streamline);
+                       --group NAME shows a TRX group's streamlines
   .swc                 neuron morphology -> exact tubes with the file's radii
   .nii .nii.gz         SH coefficients or tensors on the 4th axis -> exact glyphs, one slice
   .mif .mif.gz         the same from MRtrix3 (e.g. FODs from dwi2fod, tensors from dwi2tensor)
@@ -38,6 +40,7 @@ from sightline import nifti
 
 EXAMPLES = """examples:
   sightline-view bundle.trk tracks.tck neuron.swc
+  sightline-view brain.trx --group CST_left --group CST_right --color fa
   sightline-view fod.mif.gz --underlay t1.nii.gz --slice coronal
   sightline-view func_coef.nii.gz --basis dipy --legacy --output odf.png --size 1200 900
   sightline-view dti.nii.gz --layout fsl --underlay fa.nii.gz
@@ -73,7 +76,9 @@ class ViewError(Exception):
 
 
 def lower_extension(path):
-    name = os.path.basename(path).lower()
+    if os.path.isdir(path) and os.path.isfile(os.path.join(path, "header.json")):
+        return ".trx"  # TRX's directory form
+    name = os.path.basename(os.path.normpath(path)).lower()
     for double in (".nii.gz", ".mif.gz"):
         if name.endswith(double):
             return double
@@ -130,14 +135,51 @@ def direction_colors(lines):
     return lines
 
 
+def select_groups(data, names, path):
+    """The streamlines of `data` in any of the TRX groups `names` (cell arrays group:NAME)."""
+    cells = data.GetCellData()
+    available = sorted(cells.GetArrayName(i)[6:] for i in range(cells.GetNumberOfArrays())
+                       if (cells.GetArrayName(i) or "").startswith("group:"))
+    keep = np.zeros(data.GetNumberOfCells(), bool)
+    for name in names:
+        array = cells.GetArray("group:" + name)
+        if array is None:
+            raise ViewError(f"{path}: no group '{name}' (its groups: "
+                            f"{', '.join(available) if available else 'none'})")
+        keep |= vtk_to_numpy(array) != 0
+    if not keep.any():
+        raise ViewError(f"{path}: the groups {', '.join(names)} hold no streamlines")
+    lines = data.GetLines()
+    offsets = vtk_to_numpy(lines.GetOffsetsArray())
+    connectivity = vtk_to_numpy(lines.GetConnectivityArray())
+    kept = np.flatnonzero(keep)
+    lengths = offsets[kept + 1] - offsets[kept]
+    ids = np.concatenate([connectivity[offsets[c]:offsets[c + 1]] for c in kept])
+    cell_array = vtk.vtkCellArray()
+    cell_array.SetData(numpy_to_vtk(np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
+                                    deep=True, array_type=vtk.VTK_ID_TYPE),
+                       numpy_to_vtk(ids.astype(np.int64), deep=True, array_type=vtk.VTK_ID_TYPE))
+    result = vtk.vtkPolyData()
+    result.SetPoints(data.GetPoints())
+    result.GetPointData().ShallowCopy(data.GetPointData())
+    result.SetLines(cell_array)
+    for i in range(cells.GetNumberOfArrays()):
+        values = vtk_to_numpy(cells.GetArray(i))[kept]
+        array = numpy_to_vtk(np.ascontiguousarray(values), deep=True,
+                             array_type=cells.GetArray(i).GetDataType())
+        array.SetName(cells.GetArrayName(i))
+        result.GetCellData().AddArray(array)
+    return result
+
+
 def read_tubes(path):
-    """vtkPolyData of a .trk or .tck file (polylines in RAS+ mm, direction colours) or of an
+    """vtkPolyData of a .trk, .tck or .trx file (polylines in RAS+ mm, direction colours) or of an
     .swc file (points with Radius, Type and ParentIndex arrays); ViewError naming the file when
     it is missing, of another type, unreadable or empty."""
     extension = lower_extension(path)
     if extension not in TubeLayer.READERS:
-        raise ViewError(f"{path}: not a .trk, .tck or .swc file")
-    if not os.path.isfile(path):
+        raise ViewError(f"{path}: not a .trk, .tck, .trx or .swc file")
+    if not os.path.exists(path):
         raise ViewError(f"{path}: no such file")
     class_name, what = TubeLayer.READERS[extension]
     reader = getattr(sightline, class_name)()
@@ -152,6 +194,38 @@ def read_tubes(path):
             raise ViewError(f"{path}: holds no streamlines")
         direction_colors(data)
     return data
+
+
+def color_by_array(mapper, data, name, path, whole):
+    """Colours tubes by the point or cell (per streamline) array `name` through a lookup table
+    over its range in the whole file `whole` (so that a group keeps the colours it has among
+    all streamlines; vectors by magnitude); ViewError listing the arrays when there is none."""
+    point, cell = data.GetPointData().GetArray(name), data.GetCellData().GetArray(name)
+    if point is None and cell is None:
+        names = sorted(({data.GetPointData().GetArrayName(i)
+                         for i in range(data.GetPointData().GetNumberOfArrays())} |
+                        {data.GetCellData().GetArrayName(i)
+                         for i in range(data.GetCellData().GetNumberOfArrays())}) - {"direction"})
+        raise ViewError(f"{path}: no array '{name}' to colour by (its arrays: "
+                        f"{', '.join(names) if names else 'none'})")
+    array = point if point is not None else cell
+    whole_array = (whole.GetPointData() if point is not None else whole.GetCellData()).GetArray(name)
+    low, high = whole_array.GetRange(-1 if array.GetNumberOfComponents() > 1 else 0)
+    table = vtk.vtkLookupTable()
+    table.SetHueRange(0.667, 0.0)  # blue to red
+    table.SetTableRange(low, high if high > low else low + 1)
+    table.SetVectorModeToMagnitude()
+    table.Build()
+    mapper.SetLookupTable(table)
+    mapper.UseLookupTableScalarRangeOn()
+    mapper.SetColorModeToMapScalars()
+    if point is not None:
+        mapper.SetScalarModeToUsePointFieldData()
+    else:
+        mapper.SetScalarModeToUseCellFieldData()
+    mapper.SelectColorArray(name)
+    return f"coloured by {name} ({'per point' if point is not None else 'per streamline'}, " \
+           f"{low:.3g} to {high:.3g})"
 
 
 def shade(prop, ambient=0.2, specular=0.3):
@@ -190,11 +264,16 @@ class TubeLayer(Layer):
 
     READERS = {".trk": ("vtkSightlineTrackVisReader", "a TrackVis .trk file"),
                ".tck": ("vtkSightlineTCKReader", "an MRtrix3 .tck file"),
+               ".trx": ("vtkSightlineTRXReader", "a TRX tractogram"),
                ".swc": ("vtkSightlineSWCReader", "an SWC neuron morphology")}
 
     def __init__(self, path, extension, args):
         super().__init__(path)
-        data = read_tubes(path)
+        data = whole = read_tubes(path)
+        if args.group:
+            if extension != ".trx":
+                raise ViewError(f"{path}: --group selects TRX groups; this is not a .trx")
+            data = select_groups(whole, args.group, path)
         mapper = sightline.vtkSightlineTubeMapper()
         mapper.SetInputDataObject(data)
         diagonal = math.sqrt(sum((data.GetBounds()[2 * i + 1] - data.GetBounds()[2 * i]) ** 2
@@ -230,6 +309,8 @@ class TubeLayer(Layer):
             self.radius_text = f"radius {radius:.3g}"
             self.count_text = (f"{data.GetNumberOfLines()} streamlines, "
                                f"{data.GetNumberOfPoints()} points")
+            if args.color:
+                self.count_text += ", " + color_by_array(mapper, data, args.color, path, whole)
             color = None
         Progress(f"tubes of {os.path.basename(path)}").watch(mapper)
         actor = vtk.vtkActor()
@@ -558,7 +639,7 @@ class VolumeLayer(Layer):
 def load(path, args):
     extension = lower_extension(path)
     if extension in TubeLayer.READERS:
-        if not os.path.isfile(path):
+        if not os.path.exists(path):
             raise ViewError(f"{path}: no such file")
         return TubeLayer(path, extension, args)
     if extension in (".nii", ".nii.gz", ".mif", ".mif.gz"):
@@ -566,7 +647,8 @@ def load(path, args):
     if extension == ".vtr":
         return VolumeLayer(path, extension, args)
     raise ViewError(f"{path}: unknown file type '{extension or os.path.basename(path)}'; "
-                    "sightline-view opens .trk, .tck, .swc, .nii, .nii.gz, .mif, .mif.gz, .vtr")
+                    "sightline-view opens .trk, .tck, .trx, .swc, .nii, .nii.gz, .mif, .mif.gz, "
+                    ".vtr")
 
 
 # -- the scene -------------------------------------------------------------------------------
@@ -942,6 +1024,11 @@ def parse_arguments(argv):
     other.add_argument("--radius", type=float,
                        help="tube radius (default: the SWC file's radii; for streamlines 0.5 mm, "
                             "or 1/200 of the bundle's diagonal when that is smaller)")
+    other.add_argument("--color", metavar="ARRAY",
+                       help="colour streamlines by a per-point or per-streamline array (a TRX "
+                            "dpv or dps, a .trk scalar or property) instead of by direction")
+    other.add_argument("--group", action="append", metavar="NAME",
+                       help="show only the streamlines of this TRX group (repeat for several)")
     other.add_argument("--grid", choices=("spherical", "cylindrical"), default="spherical",
                        help=".vtr coordinates: (r, theta, phi) or (rho, phi, z)")
     other.add_argument("--angles", choices=("auto", "radians", "degrees"), default="auto",

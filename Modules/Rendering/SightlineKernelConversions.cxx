@@ -149,6 +149,37 @@ sightline::Material MaterialFromVolumeProperty(vtkVolumeProperty* property)
   return material;
 }
 
+namespace
+{
+// Mapped RGB(A) colours as packed RGBA8, or empty when they are not `count` colours.
+std::vector<std::uint32_t> Packed(vtkUnsignedCharArray* mapped, vtkIdType count)
+{
+  std::vector<std::uint32_t> colors;
+  const int components = mapped->GetNumberOfComponents();
+  if (mapped->GetNumberOfTuples() != count || components < 3)
+  {
+    return colors;
+  }
+  colors.resize(static_cast<std::size_t>(count));
+  for (vtkIdType i = 0; i < count; ++i)
+  {
+    const unsigned char* c = mapped->GetPointer(i * components);
+    colors[i] = sightline::packRGBA8(c[0], c[1], c[2], components > 3 ? c[3] : 255);
+  }
+  return colors;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+std::vector<std::uint32_t> CellColors(vtkMapper* mapper, vtkDataSet* input)
+{
+  int cellFlag = 0;
+  vtkUnsignedCharArray* mapped =
+    mapper->GetScalarVisibility() ? mapper->MapScalars(input, 1.0, cellFlag) : nullptr;
+  return mapped && cellFlag == 1 ? Packed(mapped, input->GetNumberOfCells())
+                                 : std::vector<std::uint32_t>();
+}
+
 //------------------------------------------------------------------------------
 std::vector<std::uint32_t> PointColors(vtkMapper* mapper, vtkDataSet* input, bool* cellScalars)
 {
@@ -175,19 +206,7 @@ std::vector<std::uint32_t> PointColors(vtkMapper* mapper, vtkDataSet* input, boo
     }
     return colors;
   }
-  const vtkIdType count = input->GetNumberOfPoints();
-  const int components = mapped->GetNumberOfComponents();
-  if (mapped->GetNumberOfTuples() != count || components < 3)
-  {
-    return colors;
-  }
-  colors.resize(static_cast<std::size_t>(count));
-  for (vtkIdType i = 0; i < count; ++i)
-  {
-    const unsigned char* c = mapped->GetPointer(i * components);
-    colors[i] = sightline::packRGBA8(c[0], c[1], c[2], components > 3 ? c[3] : 255);
-  }
-  return colors;
+  return Packed(mapped, input->GetNumberOfPoints());
 }
 
 //------------------------------------------------------------------------------

@@ -57,6 +57,10 @@ sightline::Material MaterialFromVolumeProperty(vtkVolumeProperty* property);
 std::vector<std::uint32_t> PointColors(
   vtkMapper* mapper, vtkDataSet* input, bool* cellScalars = nullptr);
 
+/// The mapper's colours for the input's cells, packed RGBA8, or empty when scalar colouring is
+/// off or the mapped scalars are not cell data (e.g. a tractogram's per-streamline values).
+std::vector<std::uint32_t> CellColors(vtkMapper* mapper, vtkDataSet* input);
+
 /// Each reason of a kernel geometry's report as a warning of `reporter` (observers of its
 /// WarningEvent see them as they see the reporter's own warnings).
 void WarnAboutReport(vtkObject* reporter, const sightline::ValidationReport& report);

@@ -126,8 +126,14 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     return nullptr;
   }
 
+  // Colours per point, or per polyline (a tractogram's per-streamline values: each streamline's
+  // tubes take its colour).
+  bool cellScalars = false;
   const std::vector<std::uint32_t> pointColors =
-    SightlineKernelConversions::PointColors(this, input);
+    SightlineKernelConversions::PointColors(this, input, &cellScalars);
+  const std::vector<std::uint32_t> cellColors = cellScalars
+    ? SightlineKernelConversions::CellColors(this, input)
+    : std::vector<std::uint32_t>();
 
   // Control points and their predecessors: the input's points with the predecessor array, or a
   // copy of each polyline's points (a point may be interior to several polylines).
@@ -135,7 +141,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   std::vector<float> radii;
   std::vector<std::int64_t> predecessors;
   std::vector<std::uint32_t> colors;
-  auto add = [&](vtkIdType id, std::int64_t predecessor)
+  auto add = [&](vtkIdType id, std::int64_t predecessor, vtkIdType cell = -1)
   {
     points.emplace_back();
     input->GetPoint(id, &points.back().x);
@@ -144,6 +150,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     if (!pointColors.empty())
     {
       colors.push_back(pointColors[id]);
+    }
+    else if (!cellColors.empty() && cell >= 0)
+    {
+      colors.push_back(cellColors[static_cast<std::size_t>(cell)]);
     }
   };
   if (this->PredecessorArrayName && *this->PredecessorArrayName)
@@ -205,7 +215,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
         }
         for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k)
         {
-          add(cell->GetId(k), k == 0 ? -1 : std::int64_t(points.size()) - 1);
+          add(cell->GetId(k), k == 0 ? -1 : std::int64_t(points.size()) - 1, c);
         }
       });
     if (lineCount == 0)

@@ -22,7 +22,8 @@
  * array's minimum up to Radius times RadiusFactor at its maximum). Points with a negative or
  * non-finite radius or position are dropped with their links, with a warning.
  *
- * Colour: VTK's scalar colouring per point (ScalarVisibility, lookup table) or the actor's.
+ * Colour: VTK's scalar colouring per point or per polyline cell (ScalarVisibility, lookup table;
+ * cell data colour a whole polyline, e.g. a tractogram's per-streamline values) or the actor's.
  *
  * Opacity: with the actor's opacity below 1 the tubes are drawn as the union of their solids
  * (Han et al. 2019, Section 4.3): only where a ray enters or leaves the union is a surface

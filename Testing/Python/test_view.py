@@ -159,6 +159,79 @@ class View(unittest.TestCase):
         _, thick = self.render("minimal_bundles_thick", *bundles, "--radius", "1.5")
         self.assertGreater(thick.mean(), covered.mean() * 1.3)
 
+    def test_trx_groups_and_colour_arrays(self):
+        """A .trx of DIPY's three bundles (each a group, a per-streamline 'bundle' number and a
+        per-point 'height'): --group shows only its streamlines, --color colours by a dps (one
+        colour per streamline, so per bundle) or a dpv, and the directory form opens too."""
+        with zipfile.ZipFile(os.path.join(DIPY_FILES, "minimal_bundles.zip")) as archive:
+            archive.extractall(self.folder)
+        append = vtk.vtkAppendPolyData()
+        names = ("AF_L", "CST_R", "CC_ForcepsMajor")
+        for index, name in enumerate(names):
+            reader = sightline.vtkSightlineTrackVisReader()
+            reader.SetFileName(os.path.join(self.folder, "sub_1", f"{name}.trk"))
+            reader.Update()
+            data = vtk.vtkPolyData()
+            data.DeepCopy(reader.GetOutput())
+            cells = data.GetNumberOfCells()
+            for other in names:
+                flag = vtk.vtkUnsignedCharArray()
+                flag.SetName("group:" + other)
+                flag.SetNumberOfValues(cells)
+                flag.Fill(1 if other == name else 0)
+                data.GetCellData().AddArray(flag)
+            bundle = vtk.vtkFloatArray()
+            bundle.SetName("bundle")
+            bundle.SetNumberOfValues(cells)
+            bundle.Fill(index)
+            data.GetCellData().AddArray(bundle)
+            height = vtk.vtkFloatArray()
+            height.SetName("height")
+            height.SetNumberOfValues(data.GetNumberOfPoints())
+            for point in range(data.GetNumberOfPoints()):
+                height.SetValue(point, data.GetPoint(point)[2])
+            data.GetPointData().AddArray(height)
+            append.AddInputData(data)
+        trx = os.path.join(self.folder, "bundles.trx")
+        folder = os.path.join(self.folder, "bundles_trx")
+        for path, directory in ((trx, False), (folder, True)):
+            writer = sightline.vtkSightlineTRXWriter()
+            writer.SetInputConnection(append.GetOutputPort())
+            writer.SetFileName(path)
+            writer.SetWriteToDirectory(directory)
+            writer.Write()
+        result, everything = self.render("trx_all", trx)
+        self.assertIn("150 streamlines", result.stdout)
+        result, _ = self.render("trx_directory", folder)
+        self.assertIn("150 streamlines", result.stdout)
+        result, one = self.render("trx_cst", trx, "--group", "CST_R", "--color", "bundle")
+        self.assertIn("50 streamlines", result.stdout)
+        self.assertIn("coloured by bundle (per streamline, 0 to 2)", result.stdout)
+        self.assertLess(one.mean(), 0.6 * everything.mean())
+        # Per-streamline colours: two groups coloured by bundle show exactly two hues.
+        output = os.path.join(self.folder, "trx_two.png")
+        self.run_view(trx, "--group", "AF_L", "--group", "CST_R", "--color", "bundle",
+                      "--output", output, "--size", *map(str, SIZE))
+        reader = vtk.vtkPNGReader()
+        reader.SetFileName(output)
+        reader.Update()
+        rgb = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
+        covered = np.abs(rgb - BACKGROUND).max(axis=1) > 8
+        hue = np.argmax(rgb[covered], axis=1)  # blue (bundle 0) or red (bundle 1 of 0..2: green)
+        self.assertGreater(np.mean(hue == 2), 0.2)  # AF_L, bundle 0: the table's blue end
+        self.assertGreater(np.mean(hue == 1), 0.2)  # CST_R, bundle 1: its green middle
+        self.assertLess(np.mean(hue == 0), 0.05)    # no red: bundle 2 is not shown
+        result, _ = self.render("trx_height", trx, "--color", "height")
+        self.assertIn("coloured by height (per point", result.stdout)
+        bad = self.run_view(trx, "--group", "nope", "--output", output, expect_ok=False)
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("no group 'nope' (its groups: AF_L, CC_ForcepsMajor, CST_R)", bad.stderr)
+        bad = self.run_view(trx, "--color", "nope", "--output", output, expect_ok=False)
+        self.assertIn("no array 'nope' to colour by (its arrays: bundle, group:AF_L", bad.stderr)
+        bad = self.run_view(os.path.join(NIBABEL_DATA, "standard.trk"), "--group", "x",
+                            "--output", output, expect_ok=False)
+        self.assertIn("--group selects TRX groups; this is not a .trx", bad.stderr)
+
     def test_swc(self):
         result, _ = self.render("neuron", SWC, min_fill=0.4)
         self.assertIn("12 samples", result.stdout)

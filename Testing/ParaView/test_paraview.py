@@ -20,7 +20,8 @@ from paraview.simple import (Calculator, ClearSelection, ColorBy, Delete, GetCol
                              PVTrivialProducer, Render, SelectSurfaceCells, SelectSurfacePoints,
                              SetActiveSource, Show, Threshold, Transform)
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkIdList, vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonCore import (vtkIdList, vtkOutputWindow, vtkStringOutputWindow,
+                                      vtkUnsignedCharArray)
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkActor, vtkRenderer, vtkRenderWindow, vtkVolume, vtkWindowToImageFilter
 from vtkmodules.vtkRenderingCore import vtkVolumeProperty
@@ -174,7 +175,24 @@ class ParaViewPluginTest(unittest.TestCase):
         with tempfile.TemporaryDirectory() as folder:
             with zipfile.ZipFile(BUNDLES) as archive:
                 archive.extract("sub_1/AF_L.trk", folder)
+            # A .trx converted from DIPY's bundle by our writer, with a group of every other
+            # streamline: File > Open must pick our reader and show the group as a cell array.
+            trk = sightline.vtkSightlineTrackVisReader()
+            trk.SetFileName(os.path.join(folder, "sub_1", "AF_L.trk"))
+            trk.Update()
+            tracks = trk.GetOutput()
+            group = vtkUnsignedCharArray()
+            group.SetName("group:even")
+            for cell in range(tracks.GetNumberOfCells()):
+                group.InsertNextValue(1 - cell % 2)
+            tracks.GetCellData().AddArray(group)
+            trx = os.path.join(folder, "AF_L.trx")
+            writer = sightline.vtkSightlineTRXWriter()
+            writer.SetInputData(tracks)
+            writer.SetFileName(trx)
+            writer.Write()
             files = {
+                trx: "SightlineTRXReader",
                 os.path.join(folder, "sub_1", "AF_L.trk"): "SightlineTrackVisReader",
                 os.path.join(SWC_DIR, "neuron_three_point_soma.swc"): "SightlineSWCReader",
                 os.path.join(SH_DATA, "small_64D_sh_tournier07.mif"): "SightlineMIFReader",
@@ -188,6 +206,10 @@ class ParaViewPluginTest(unittest.TestCase):
                 reader.UpdatePipeline()
                 info = reader.GetDataInformation()
                 self.assertGreater(info.GetNumberOfPoints(), 0, path)
+                if path == trx:
+                    self.assertEqual(info.GetNumberOfPoints(), tracks.GetNumberOfPoints())
+                    self.assertEqual(info.GetNumberOfCells(), tracks.GetNumberOfCells())
+                    self.assertIsNotNone(reader.CellData["group:even"])
                 Delete(reader)
 
     def test_tubes_from_trk_coloured_through_the_lut(self):

@@ -438,7 +438,9 @@ def check_sh_glyph_window(arguments):
 TUBE_LINKS = 4000
 TUBE_WIDTH, TUBE_HEIGHT = 200, 150
 TUBE_EXACT = ["sightline:combined-on-the-fly", "sightline:combined-precomputed",
-              "sightline:separate-on-the-fly", "sightline:separate-precomputed", "sightline-csg"]
+              "sightline:separate-on-the-fly", "sightline:separate-precomputed",
+              "sightline:chunked-4", "sightline:chunked-8", "sightline:chunked-16",
+              "sightline:chunked-32", "sightline-csg"]
 TUBE_FILTER_SIDES = [6, 12, 24]
 
 

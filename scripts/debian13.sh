@@ -43,8 +43,14 @@ if [ ! -f "$rootfs/.sightline-root-complete" ]; then
   }
   touch "$rootfs/.sightline-root-complete"
 fi
-# Name resolution for apt inside, as the machine has it now.
+# Name resolution for apt inside, as the machine has it now; and the machine's TLS trust (its
+# certificate bundle may hold a local proxy's CA that Debian's does not), for pip inside
+# (the TRX tests' trx-python from PyPI).
 cp -L /etc/resolv.conf "$rootfs/etc/resolv.conf"
+mkdir -p "$rootfs/sightline"
+if [ -f /etc/ssl/certs/ca-certificates.crt ]; then
+  cp -L /etc/ssl/certs/ca-certificates.crt "$rootfs/sightline/host-ca-certificates.crt"
+fi
 
 # The source tree as git sees it, with modification times kept so that builds stay incremental.
 echo "Copying the working tree to $rootfs/sightline/src"
@@ -60,6 +66,10 @@ env_inside=(PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin HO
   SIGHTLINE_BUILD_DIR=/sightline/build
   SIGHTLINE_PARAVIEW_BUILD_DIR=/sightline/build-paraview
   SIGHTLINE_SANITIZE_BUILD_DIR=/sightline/build-asan)
+if [ -f "$rootfs/sightline/host-ca-certificates.crt" ]; then
+  env_inside+=(PIP_CERT=/sightline/host-ca-certificates.crt
+    SSL_CERT_FILE=/sightline/host-ca-certificates.crt)
+fi
 for name in CI SIGHTLINE_PARAVIEW SIGHTLINE_SANITIZE; do
   [ -z "${!name+x}" ] || env_inside+=("$name=${!name}")
 done

@@ -6,7 +6,8 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkIdTypeArray.h"
+#include "vtkTypeInt32Array.h"
+#include "vtkTypeInt64Array.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -30,6 +31,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 vtkStandardNewMacro(vtkSightlineTRXReader);
@@ -639,27 +641,39 @@ int vtkSightlineTRXReader::RequestData(
       }
     }
     // Cell c runs over connectivity [offset c, offset c + 1): the vertex ids of the kept
-    // streamlines, one after the other (0, 1, 2, ... when none is left out).
-    vtkNew<vtkIdTypeArray> cellOffsets;
-    cellOffsets->SetNumberOfValues(lines + 1);
-    vtkNew<vtkIdTypeArray> connectivity;
-    connectivity->SetNumberOfValues(static_cast<vtkIdType>(vertices));
-    vtkIdType used = 0;
-    cellOffsets->SetValue(0, 0);
-    for (std::uint64_t i = 0; i < streamlines; ++i)
-    {
-      if (cellOf[i] >= 0)
-      {
-        for (std::uint64_t v = starts[i]; v < starts[i + 1]; ++v)
-        {
-          connectivity->SetValue(used++, static_cast<vtkIdType>(v - firstVertex));
-        }
-        cellOffsets->SetValue(cellOf[i] + 1, used);
-      }
-    }
-    connectivity->SetNumberOfValues(used);
+    // streamlines, one after the other (0, 1, 2, ... when none is left out). 32-bit ids while
+    // they fit (below 2^31 vertices): 4 bytes a vertex less than VTK's default 64-bit storage.
     vtkNew<vtkCellArray> cells;
-    cells->SetData(cellOffsets, connectivity);
+    auto fill = [&](auto* cellOffsets, auto* connectivity) {
+      using Id = typename std::remove_pointer_t<decltype(connectivity)>::ValueType;
+      cellOffsets->SetNumberOfValues(lines + 1);
+      connectivity->SetNumberOfValues(static_cast<vtkIdType>(vertices));
+      Id used = 0;
+      cellOffsets->SetValue(0, 0);
+      for (std::uint64_t i = 0; i < streamlines; ++i)
+      {
+        if (cellOf[i] >= 0)
+        {
+          for (std::uint64_t v = starts[i]; v < starts[i + 1]; ++v)
+          {
+            connectivity->SetValue(used++, static_cast<Id>(v - firstVertex));
+          }
+          cellOffsets->SetValue(cellOf[i] + 1, used);
+        }
+      }
+      connectivity->SetNumberOfValues(used);
+      cells->SetData(cellOffsets, connectivity);
+    };
+    if (vertices < (std::uint64_t(1) << 31))
+    {
+      vtkNew<vtkTypeInt32Array> cellOffsets, connectivity;
+      fill(cellOffsets.Get(), connectivity.Get());
+    }
+    else
+    {
+      vtkNew<vtkTypeInt64Array> cellOffsets, connectivity;
+      fill(cellOffsets.Get(), connectivity.Get());
+    }
 
     vtkNew<vtkPolyData> result;
     result->SetPoints(points);

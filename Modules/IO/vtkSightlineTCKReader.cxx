@@ -2,10 +2,12 @@
 #include "vtkSightlineTCKReader.h"
 
 #include "vtkCellArray.h"
+#include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
@@ -27,6 +29,120 @@ namespace
 using namespace sightline_io;
 
 constexpr const char* kMagic = "mrtrix tracks";
+
+// The values of an MRtrix3 track scalar file (.tsf: a header like a .tck's, then one value per
+// track point, each track ended by a NaN and the file by an Inf) for the tracks the reader kept:
+// cell c is file track cellTrack[c] with cellSize[c] points. Only those tracks' values are
+// stored; each must have exactly as many values as its track has points.
+bool ReadTrackScalars(const char* fileName, const std::vector<long long>& cellTrack,
+  const std::vector<vtkIdType>& cellSize, vtkFloatArray* out, std::string& error)
+{
+  InputFile input;
+  if (!input.Open(fileName, false, std::string(), error))
+  {
+    return false;
+  }
+  const std::string name = "the track scalar file " + InputName(fileName, false);
+  long long at = 0;
+  MRtrixHeader header;
+  if (!ReadMRtrixHeader([&] { return input.ByteAt(at++); }, "mrtrix track scalars",
+        "MRtrix track scalar file", header, error))
+  {
+    error = name + ": " + error;
+    return false;
+  }
+  MRtrixDataType type;
+  if (!ParseDataType(header.Value("datatype"), type) ||
+    (type.Type != MRtrixType::Float32 && type.Type != MRtrixType::Float64))
+  {
+    error = name + ": datatype '" + Quote(header.Value("datatype")) +
+      "' is not one of Float32LE, Float32BE, Float64LE, Float64BE";
+    return false;
+  }
+  long long offset = -1;
+  const long long size = input.Size();
+  if (!ParseDataFileEntry(header.Value("file"), offset) ||
+    offset < static_cast<long long>(header.Size) || offset > size)
+  {
+    error = name + ": the 'file' entry does not give a data offset inside the file";
+    return false;
+  }
+  vtkIdType total = 0;
+  for (vtkIdType n : cellSize)
+  {
+    total += n;
+  }
+  out->SetNumberOfValues(total);
+  const std::size_t valueSize = static_cast<std::size_t>(type.Bytes);
+  const long long values = (size - offset) / static_cast<long long>(valueSize);
+  constexpr long long chunkValues = 1 << 16;
+  std::vector<char> chunk(static_cast<std::size_t>(chunkValues) * valueSize);
+  std::size_t cell = 0;      // the next kept track
+  long long track = 0;       // the file track being read
+  vtkIdType inTrack = 0;     // its values so far
+  vtkIdType written = 0;
+  bool open = false;
+  for (long long v0 = 0; v0 < values && cell < cellTrack.size(); v0 += chunkValues)
+  {
+    const long long count = std::min(chunkValues, values - v0);
+    const std::size_t bytes = static_cast<std::size_t>(count) * valueSize;
+    if (input.ReadAt(offset + v0 * static_cast<long long>(valueSize), chunk.data(), bytes) != bytes)
+    {
+      break;
+    }
+    ToHostByteOrder(chunk.data(), static_cast<std::size_t>(count), type);
+    for (long long k = 0; k < count && cell < cellTrack.size(); ++k)
+    {
+      double value;
+      if (valueSize == 4)
+      {
+        float f;
+        std::memcpy(&f, chunk.data() + 4 * k, 4);
+        value = f;
+      }
+      else
+      {
+        std::memcpy(&value, chunk.data() + 8 * k, 8);
+      }
+      if (std::isinf(value))
+      {
+        v0 = values; // the end marker
+        break;
+      }
+      const bool kept = cellTrack[cell] == track;
+      if (std::isnan(value))
+      {
+        if (open && kept)
+        {
+          if (inTrack != cellSize[cell])
+          {
+            error = name + ": track " + std::to_string(track) + " has " + std::to_string(inTrack) +
+              " values but " + std::to_string(cellSize[cell]) + " points in the track file";
+            return false;
+          }
+          ++cell;
+        }
+        track += open ? 1 : 0;
+        open = false;
+        inTrack = 0;
+        continue;
+      }
+      open = true;
+      if (kept && inTrack < cellSize[cell])
+      {
+        out->SetValue(written++, static_cast<float>(value));
+      }
+      ++inTrack;
+    }
+  }
+  if (cell < cellTrack.size())
+  {
+    error = name + " ends after " + std::to_string(track) + " tracks, before track " +
+      std::to_string(cellTrack[cell]) + " of the track file";
+    return false;
+  }
+  return true;
+}
 } // namespace
 
 vtkSightlineTCKReader::vtkSightlineTCKReader()
@@ -37,6 +153,7 @@ vtkSightlineTCKReader::vtkSightlineTCKReader()
 vtkSightlineTCKReader::~vtkSightlineTCKReader()
 {
   this->SetFileName(nullptr);
+  this->SetScalarFileName(nullptr);
 }
 
 void vtkSightlineTCKReader::SetInputString(const std::string& bytes)
@@ -197,6 +314,8 @@ int vtkSightlineTCKReader::RequestData(
   vtkIdType skipped = 0;
   long long firstSkipped = -1;
   double badValue = 0.0;
+  std::vector<long long> cellTrack; // the file streamline of each cell (for a .tsf)
+  std::vector<vtkIdType> cellSize;
   auto endStreamline = [&] {
     if (open && streamline >= first)
     {
@@ -209,6 +328,8 @@ int vtkSightlineTCKReader::RequestData(
       {
         const vtkIdType firstPoint = points->GetNumberOfPoints();
         const vtkIdType n = static_cast<vtkIdType>(current.size() / 3);
+        cellTrack.push_back(streamline);
+        cellSize.push_back(n);
         lines->InsertNextCell(n);
         for (vtkIdType k = 0; k < n; ++k)
         {
@@ -280,6 +401,23 @@ int vtkSightlineTCKReader::RequestData(
   // piece's points and connectivity, kept for as long as the output lives).
   points->Squeeze();
   lines->Squeeze();
+  if (this->ScalarFileName && *this->ScalarFileName)
+  {
+    vtkNew<vtkFloatArray> values;
+    std::string stem = this->ScalarFileName;
+    stem = stem.substr(stem.find_last_of('/') + 1);
+    if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".tsf") == 0)
+    {
+      stem.resize(stem.size() - 4);
+    }
+    values->SetName(Quote(stem).c_str());
+    if (!ReadTrackScalars(this->ScalarFileName, cellTrack, cellSize, values, error))
+    {
+      vtkErrorMacro(<< name << ": " << error);
+      return 0;
+    }
+    output->GetPointData()->AddArray(values);
+  }
   output->SetPoints(points);
   output->SetLines(lines);
   return 1;
@@ -290,4 +428,6 @@ void vtkSightlineTCKReader::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "ReadFromInputString: " << this->ReadFromInputString << "\n";
+  os << indent << "ScalarFileName: " << (this->ScalarFileName ? this->ScalarFileName : "(none)")
+     << "\n";
 }

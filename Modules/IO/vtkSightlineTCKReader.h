@@ -24,6 +24,11 @@
  * piece's points are stored, so a piece holds about 1/n of the points (the streamlines before
  * it are scanned, not kept). Piece 0 of 1 is the whole file. The end-of-file warnings (no end
  * marker, a count that disagrees) come from the piece that reads to the end.
+ *
+ * Track scalars: ScalarFileName names an MRtrix3 track scalar file (.tsf, as `tcksample`
+ * writes) for the same tracks; its values become a float point-data array named after the file
+ * (without .tsf), for the piece's tracks only. A track whose value count differs from its point
+ * count, or a .tsf with fewer tracks, is an error.
  */
 #ifndef vtkSightlineTCKReader_h
 #define vtkSightlineTCKReader_h
@@ -42,6 +47,12 @@ public:
 
   vtkSetStringMacro(FileName);
   vtkGetStringMacro(FileName);
+
+  ///@{
+  /** An MRtrix3 track scalar file (.tsf) whose values become point data (none: empty). */
+  vtkSetStringMacro(ScalarFileName);
+  vtkGetStringMacro(ScalarFileName);
+  ///@}
 
   ///@{
   /**
@@ -70,6 +81,7 @@ protected:
     vtkInformationVector* outputVector) override;
 
   char* FileName = nullptr;
+  char* ScalarFileName = nullptr;
   std::string InputString;
   bool ReadFromInputString = false;
 

@@ -8,7 +8,7 @@ image rendered without a window or OpenGL by vtkSightlineImageRenderer):
 
   .trk .tck .trx       streamlines (TrackVis, MRtrix3, TRX: file or directory) -> exact tubes,
                        direction colours, or --color ARRAY (per point or per streamline);
-                       --group NAME shows a TRX group's streamlines
+                       --group NAME shows a TRX group's streamlines, --tsf a .tck's scalars
   .swc                 neuron morphology -> exact tubes with the file's radii
   .nii .nii.gz         SH coefficients or tensors on the 4th axis -> exact glyphs, one slice
   .mif .mif.gz         the same from MRtrix3 (e.g. FODs from dwi2fod, tensors from dwi2tensor)
@@ -172,10 +172,11 @@ def select_groups(data, names, path):
     return result
 
 
-def read_tubes(path):
-    """vtkPolyData of a .trk, .tck or .trx file (polylines in RAS+ mm, direction colours) or of an
-    .swc file (points with Radius, Type and ParentIndex arrays); ViewError naming the file when
-    it is missing, of another type, unreadable or empty."""
+def read_tubes(path, track_scalars=None):
+    """vtkPolyData of a .trk, .tck or .trx file (polylines in RAS+ mm, direction colours; a .tck's
+    `track_scalars` .tsf as a point array) or of an .swc file (points with Radius, Type and
+    ParentIndex arrays); ViewError naming the file when it is missing, of another type,
+    unreadable or empty."""
     extension = lower_extension(path)
     if extension not in TubeLayer.READERS:
         raise ViewError(f"{path}: not a .trk, .tck, .trx or .swc file")
@@ -184,6 +185,12 @@ def read_tubes(path):
     class_name, what = TubeLayer.READERS[extension]
     reader = getattr(sightline, class_name)()
     reader.SetFileName(path)
+    if track_scalars:
+        if extension != ".tck":
+            raise ViewError(f"{path}: --tsf gives a .tck's track scalars; this is {what}")
+        if not os.path.isfile(track_scalars):
+            raise ViewError(f"{track_scalars}: no such file")
+        reader.SetScalarFileName(track_scalars)
     Progress(f"reading {os.path.basename(path)}").watch(reader)
     data = vtk.vtkPolyData()
     data.DeepCopy(run_reader(reader, path, what))
@@ -269,7 +276,7 @@ class TubeLayer(Layer):
 
     def __init__(self, path, extension, args):
         super().__init__(path)
-        data = whole = read_tubes(path)
+        data = whole = read_tubes(path, args.tsf)
         if args.group:
             if extension != ".trx":
                 raise ViewError(f"{path}: --group selects TRX groups; this is not a .trx")
@@ -309,8 +316,11 @@ class TubeLayer(Layer):
             self.radius_text = f"radius {radius:.3g}"
             self.count_text = (f"{data.GetNumberOfLines()} streamlines, "
                                f"{data.GetNumberOfPoints()} points")
-            if args.color:
-                self.count_text += ", " + color_by_array(mapper, data, args.color, path, whole)
+            color_array = args.color or (
+                os.path.basename(args.tsf)[:-4] if args.tsf and args.tsf.endswith(".tsf")
+                else args.tsf and os.path.basename(args.tsf))
+            if color_array:
+                self.count_text += ", " + color_by_array(mapper, data, color_array, path, whole)
             color = None
         Progress(f"tubes of {os.path.basename(path)}").watch(mapper)
         actor = vtk.vtkActor()
@@ -1027,6 +1037,9 @@ def parse_arguments(argv):
     other.add_argument("--color", metavar="ARRAY",
                        help="colour streamlines by a per-point or per-streamline array (a TRX "
                             "dpv or dps, a .trk scalar or property) instead of by direction")
+    other.add_argument("--tsf", metavar="FILE.tsf",
+                       help="MRtrix3 track scalars (tcksample's .tsf) for a .tck: a point array "
+                            "named after the file, which colours the tubes unless --color says")
     other.add_argument("--group", action="append", metavar="NAME",
                        help="show only the streamlines of this TRX group (repeat for several)")
     other.add_argument("--grid", choices=("spherical", "cylindrical"), default="spherical",

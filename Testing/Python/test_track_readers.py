@@ -10,6 +10,7 @@ import unittest
 import zipfile
 
 import numpy as np
+import vtk
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import sightline
@@ -47,6 +48,59 @@ class TrackReaders(unittest.TestCase):
             if not os.path.exists(path):
                 self.skipTest(f"{path} missing (Debian package python3-nibabel)")
             self.compare(path)
+
+    def test_track_scalars_from_mrtrix3_tcksample(self):
+        """A .tsf written by MRtrix3's tcksample (a linear field sampled at nibabel's
+        standard.tck: trilinear interpolation gives it exactly) attaches to the right points,
+        whole and in pieces; a .tsf of other tracks is a named error."""
+        import subprocess
+        import nibabel as nib
+        tck = os.path.join(NIBABEL_DATA, "standard.tck")
+        gradient = np.array([1.0, 2.0, -0.5])
+        points = np.concatenate(list(nib.streamlines.load(tck).streamlines))
+        low, high = np.floor(points.min(0)) - 3, np.ceil(points.max(0)) + 3
+        shape = (high - low).astype(int) + 1
+        grid = np.indices(shape).reshape(3, -1).T + low
+        affine = np.eye(4)
+        affine[:3, 3] = low
+        with tempfile.TemporaryDirectory() as folder:
+            image = os.path.join(folder, "linear.nii")
+            nib.save(nib.Nifti1Image((grid @ gradient).reshape(shape).astype(np.float32),
+                                     affine), image)
+            tsf = os.path.join(folder, "linear.tsf")
+            subprocess.run(["tcksample", "-quiet", "-force", tck, image, tsf], check=True)
+            for piece, pieces in ((0, 1), (1, 3), (2, 3)):
+                reader = sightline.vtkSightlineTCKReader()
+                reader.SetFileName(tck)
+                reader.SetScalarFileName(tsf)
+                reader.UpdatePiece(piece, pieces, 0)
+                output = reader.GetOutput()
+                values = vtk_to_numpy(output.GetPointData().GetArray("linear"))
+                xyz = vtk_to_numpy(output.GetPoints().GetData()).astype(float)
+                self.assertEqual(len(values), len(xyz))
+                self.assertGreater(len(values), 0)
+                self.assertLess(np.abs(values - xyz @ gradient).max(),
+                                1e-5 * (1 + np.abs(values).max()), (piece, pieces))
+            # The scalars of other tracks (the first two dropped): a count that disagrees.
+            other = os.path.join(folder, "other.tck")
+            tracks = nib.streamlines.load(tck).streamlines
+            nib.streamlines.save(nib.streamlines.Tractogram(tracks[2:], affine_to_rasmm=np.eye(4)),
+                                 other)
+            wrong = os.path.join(folder, "wrong.tsf")
+            subprocess.run(["tcksample", "-quiet", "-force", other, image, wrong], check=True)
+            reader = sightline.vtkSightlineTCKReader()
+            reader.SetFileName(tck)
+            reader.SetScalarFileName(wrong)
+            errors = []
+
+            @vtk.calldata_type(vtk.VTK_STRING)
+            def on_error(caller, event, message):
+                errors.append(message)
+            reader.AddObserver(vtk.vtkCommand.ErrorEvent, on_error)
+            reader.Update()
+            self.assertTrue(errors)
+            self.assertIn("track scalar file", errors[0])
+            self.assertRegex(errors[0], r"track \d+ has \d+ values but \d+ points|ends after")
 
     def test_dipy_bundles(self):
         if not os.path.exists(BUNDLES):

@@ -148,6 +148,27 @@ class View(unittest.TestCase):
             result, _ = self.render(name, os.path.join(NIBABEL_DATA, name))
             self.assertIn("120 streamlines, 360 points", result.stdout)
 
+    def test_tck_with_track_scalars(self):
+        """--tsf: MRtrix3 tcksample's values (here each point's height) colour the tubes."""
+        tck = os.path.join(NIBABEL_DATA, "standard.tck")
+        points = np.concatenate(list(nib.streamlines.load(tck).streamlines))
+        low = np.floor(points.min(0)) - 3
+        shape = (np.ceil(points.max(0)) + 3 - low).astype(int) + 1
+        affine = np.eye(4)
+        affine[:3, 3] = low
+        height = (np.indices(shape)[2] + low[2]).astype(np.float32)
+        image = os.path.join(self.folder, "height.nii")
+        nib.save(nib.Nifti1Image(height, affine), image)
+        tsf = os.path.join(self.folder, "height.tsf")
+        subprocess.run(["tcksample", "-quiet", "-force", tck, image, tsf], check=True)
+        result, _ = self.render("tck_tsf", tck, "--tsf", tsf)
+        low_z, high_z = points[:, 2].min(), points[:, 2].max()
+        self.assertIn(f"coloured by height (per point, {low_z:.3g} to {high_z:.3g})",
+                      result.stdout)
+        bad = self.run_view(os.path.join(NIBABEL_DATA, "standard.trk"), "--tsf", tsf,
+                            "--output", os.path.join(self.folder, "x.png"), expect_ok=False)
+        self.assertIn("--tsf gives a .tck's track scalars", bad.stderr)
+
     def test_minimal_bundles(self):
         with zipfile.ZipFile(os.path.join(DIPY_FILES, "minimal_bundles.zip")) as archive:
             archive.extractall(self.folder)

@@ -21,6 +21,7 @@
 #include "vtk_jsoncpp.h"
 
 #include "SightlineReaderInput.h"
+#include "SightlineTRXArchive.h"
 #include "SightlineTRXFormat.h"
 #include "SightlineZip.h"
 
@@ -46,127 +47,10 @@ constexpr std::uint64_t kMaxHeaderBytes = 1 << 20;
 // Far beyond any tractogram, and small enough that rows * columns * 8 cannot overflow.
 constexpr std::uint64_t kMaxCount = std::uint64_t(1) << 48;
 
-// One member's bytes at any offset: a zip member, or a file of a TRX directory.
-class MemberStream
-{
-public:
-  virtual ~MemberStream() = default;
-  virtual bool Read(std::uint64_t offset, char* data, std::size_t size, std::string& error) = 0;
-};
-
-class ZipMemberStream : public MemberStream
-{
-public:
-  ZipMemberStream(InputFile& archive, const ZipEntry& entry)
-    : Reader(archive, entry)
-  {
-  }
-  bool Read(std::uint64_t offset, char* data, std::size_t size, std::string& error) override
-  {
-    return this->Reader.Read(offset, data, size, error);
-  }
-
-private:
-  ZipMemberReader Reader;
-};
-
-class FileMemberStream : public MemberStream
-{
-public:
-  InputFile File;
-  std::string Name;
-  bool Read(std::uint64_t offset, char* data, std::size_t size, std::string& error) override
-  {
-    if (offset > static_cast<std::uint64_t>(this->File.Size()) ||
-      this->File.ReadAt(static_cast<long long>(offset), data, size) != size)
-    {
-      error = "cannot read " + Quote(this->Name) + " (changed while reading?)";
-      return false;
-    }
-    return true;
-  }
-};
-
-// The members of a TRX archive (a zip file or the input string) or of a TRX directory.
-class TRXSource
-{
-public:
-  struct Member
-  {
-    std::string Path; // relative, '/'-separated
-    std::uint64_t Size = 0;
-    std::size_t Entry = 0; // zip entry index
-  };
-  std::vector<Member> Members;
-
-  bool Open(const char* fileName, bool fromString, const std::string& inputString,
-    std::string& error)
-  {
-    std::error_code code;
-    if (!fromString && fileName && std::filesystem::is_directory(fileName, code))
-    {
-      this->Root = fileName;
-      for (auto it = std::filesystem::recursive_directory_iterator(this->Root, code);
-           !code && it != std::filesystem::recursive_directory_iterator(); it.increment(code))
-      {
-        if (it->is_regular_file(code))
-        {
-          Member member;
-          member.Path = it->path().lexically_relative(this->Root).generic_string();
-          member.Size = it->file_size(code);
-          this->Members.push_back(member);
-        }
-      }
-      if (code)
-      {
-        error = "cannot list the TRX directory " + Quote(fileName) + ": " + code.message();
-        return false;
-      }
-      this->Directory = true;
-      return true;
-    }
-    if (!this->Archive.Open(fileName, fromString, inputString, error))
-    {
-      return false;
-    }
-    if (!ReadZipDirectory(this->Archive, this->Entries, error))
-    {
-      return false;
-    }
-    for (std::size_t e = 0; e < this->Entries.size(); ++e)
-    {
-      this->Members.push_back({ this->Entries[e].Name, this->Entries[e].Size, e });
-    }
-    return true;
-  }
-
-  std::unique_ptr<MemberStream> OpenMember(const Member& member, std::string& error)
-  {
-    if (!this->Directory)
-    {
-      return std::make_unique<ZipMemberStream>(this->Archive, this->Entries[member.Entry]);
-    }
-    auto file = std::make_unique<FileMemberStream>();
-    file->Name = member.Path;
-    const std::string path = (std::filesystem::path(this->Root) / member.Path).string();
-    if (!file->File.Open(path.c_str(), false, std::string(), error))
-    {
-      return nullptr;
-    }
-    return file;
-  }
-
-private:
-  bool Directory = false;
-  std::string Root;
-  InputFile Archive;
-  std::vector<ZipEntry> Entries;
-};
-
 // A TRX member, its parsed name and where to read it from.
 struct Array
 {
-  const TRXSource::Member* Member = nullptr;
+  const TRXArchiveReader::Member* Member = nullptr;
   MemberName Name;
   std::uint64_t Rows = 0;
 };
@@ -174,7 +58,7 @@ struct Array
 // Rows [first, first + rows) of `array` into `out`'s values from tuple `firstTuple` on, a block
 // at a time; `progress` is told the fraction done.
 template <typename Progress>
-bool ReadRows(MemberStream& stream, const Array& array, std::uint64_t first, std::uint64_t rows,
+bool ReadRows(TRXMemberStream& stream, const Array& array, std::uint64_t first, std::uint64_t rows,
   vtkDataArray* out, std::string& error, Progress&& progress)
 {
   if (out->GetNumberOfValues() < static_cast<vtkIdType>(rows * array.Name.Columns))
@@ -203,7 +87,7 @@ bool ReadRows(MemberStream& stream, const Array& array, std::uint64_t first, std
 }
 
 // Integer rows (offsets, group members) [first, first + rows) as unsigned 64-bit values.
-bool ReadIndices(MemberStream& stream, const Array& array, std::uint64_t first, std::uint64_t rows,
+bool ReadIndices(TRXMemberStream& stream, const Array& array, std::uint64_t first, std::uint64_t rows,
   std::vector<std::uint64_t>& out, std::string& error)
 {
   vtkSmartPointer<vtkDataArray> values;
@@ -319,7 +203,7 @@ int vtkSightlineTRXReader::RequestData(
   RequestedPiece(outInfo, piece, pieces);
   const std::string name = InputName(this->FileName, this->ReadFromInputString);
   std::string error;
-  TRXSource source;
+  TRXArchiveReader source;
   if (!source.Open(this->FileName, this->ReadFromInputString, this->InputString, error))
   {
     vtkErrorMacro(<< name << ": " << error);
@@ -332,8 +216,8 @@ int vtkSightlineTRXReader::RequestData(
   };
 
   // The header.
-  const TRXSource::Member* headerMember = nullptr;
-  for (const TRXSource::Member& member : source.Members)
+  const TRXArchiveReader::Member* headerMember = nullptr;
+  for (const TRXArchiveReader::Member& member : source.Members)
   {
     if (member.Path == "header.json")
     {
@@ -350,7 +234,7 @@ int vtkSightlineTRXReader::RequestData(
   }
   std::string headerText(static_cast<std::size_t>(headerMember->Size), '\0');
   {
-    std::unique_ptr<MemberStream> stream = source.OpenMember(*headerMember, error);
+    std::unique_ptr<TRXMemberStream> stream = source.OpenMember(*headerMember, error);
     if (!stream || !stream->Read(0, &headerText[0], headerText.size(), error))
     {
       return fail(error);
@@ -430,7 +314,7 @@ int vtkSightlineTRXReader::RequestData(
   Array positions, offsets;
   bool havePositions = false, haveOffsets = false;
   std::vector<Array> dpv, dps, groups, dpg;
-  for (const TRXSource::Member& member : source.Members)
+  for (const TRXArchiveReader::Member& member : source.Members)
   {
     if (&member == headerMember)
     {
@@ -566,7 +450,7 @@ int vtkSightlineTRXReader::RequestData(
     static_cast<unsigned __int128>(streamlineCount) * static_cast<unsigned>(piece + 1) / static_cast<unsigned>(pieces));
   std::vector<std::uint64_t> starts;
   const std::uint64_t readable = std::min(last + 1, offsets.Rows);
-  std::unique_ptr<MemberStream> offsetStream = source.OpenMember(*offsets.Member, error);
+  std::unique_ptr<TRXMemberStream> offsetStream = source.OpenMember(*offsets.Member, error);
   if (!offsetStream || !ReadIndices(*offsetStream, offsets, first, readable - first, starts, error))
   {
     return fail(error);
@@ -621,7 +505,7 @@ int vtkSightlineTRXReader::RequestData(
     points->SetDataType(positions.Name.Type == DType::Float64 ? VTK_DOUBLE : VTK_FLOAT);
     points->SetNumberOfPoints(static_cast<vtkIdType>(vertices));
     const double share = 0.8; // of the progress: reading positions is most of the work
-    std::unique_ptr<MemberStream> positionStream = source.OpenMember(*positions.Member, error);
+    std::unique_ptr<TRXMemberStream> positionStream = source.OpenMember(*positions.Member, error);
     if (!positionStream ||
       !ReadRows(*positionStream, positions, firstVertex, vertices, points->GetData(), error,
           [&](double done) { this->UpdateProgress(share * done); }))
@@ -685,7 +569,7 @@ int vtkSightlineTRXReader::RequestData(
       values->SetName(arrayName.c_str());
       values->SetNumberOfComponents(static_cast<int>(data.Name.Columns));
       values->SetNumberOfTuples(static_cast<vtkIdType>(rows));
-      std::unique_ptr<MemberStream> stream = source.OpenMember(*data.Member, error);
+      std::unique_ptr<TRXMemberStream> stream = source.OpenMember(*data.Member, error);
       if (!stream || !ReadRows(*stream, data, from, rows, values, error, [](double) {}))
       {
         return false;
@@ -727,7 +611,7 @@ int vtkSightlineTRXReader::RequestData(
       in->SetNumberOfValues(lines);
       in->FillValue(0);
       constexpr std::uint64_t kRows = kBlockBytes / 8;
-      std::unique_ptr<MemberStream> stream = source.OpenMember(*group.Member, error);
+      std::unique_ptr<TRXMemberStream> stream = source.OpenMember(*group.Member, error);
       if (!stream)
       {
         return fail(error);

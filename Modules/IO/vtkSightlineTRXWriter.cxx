@@ -12,14 +12,12 @@
 #include "vtkPolyData.h"
 
 #include "SightlineReaderInput.h"
+#include "SightlineTRXArchive.h"
 #include "SightlineTRXFormat.h"
-#include "SightlineZip.h"
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,108 +28,6 @@ namespace
 {
 using namespace sightline_io;
 using namespace sightline_io::trx;
-
-constexpr std::size_t kBlockBytes = 1 << 20;
-
-// Where members go: a zip archive or the files of a directory.
-class MemberSink
-{
-public:
-  virtual ~MemberSink() = default;
-  virtual bool Begin(const std::string& path, std::uint64_t size, std::string& error) = 0;
-  virtual bool Write(const char* data, std::size_t size, std::string& error) = 0;
-  virtual bool End(std::string& error) = 0;
-  virtual bool Close(std::string& error) = 0;
-};
-
-class ZipSink : public MemberSink
-{
-public:
-  ZipWriter Zip;
-  bool Deflate = false;
-  bool Begin(const std::string& path, std::uint64_t size, std::string& error) override
-  {
-    return this->Zip.BeginMember(path, this->Deflate, size, error);
-  }
-  bool Write(const char* data, std::size_t size, std::string& error) override
-  {
-    return this->Zip.Write(data, size, error);
-  }
-  bool End(std::string& error) override { return this->Zip.EndMember(error); }
-  bool Close(std::string& error) override { return this->Zip.Close(error); }
-};
-
-class DirectorySink : public MemberSink
-{
-public:
-  std::filesystem::path Root;
-  std::ofstream File;
-  std::string Name;
-  bool Begin(const std::string& path, std::uint64_t, std::string& error) override
-  {
-    const std::filesystem::path file = this->Root / path;
-    std::error_code code;
-    std::filesystem::create_directories(file.parent_path(), code);
-    this->Name = file.string();
-    this->File.open(file, std::ios::binary | std::ios::trunc);
-    if (code || !this->File)
-    {
-      error = "cannot create " + Quote(this->Name);
-      return false;
-    }
-    return true;
-  }
-  bool Write(const char* data, std::size_t size, std::string& error) override
-  {
-    this->File.write(data, static_cast<std::streamsize>(size));
-    if (!this->File)
-    {
-      error = "cannot write " + Quote(this->Name) + " (disk full?)";
-      return false;
-    }
-    return true;
-  }
-  bool End(std::string& error) override
-  {
-    this->File.close();
-    if (!this->File)
-    {
-      error = "cannot write " + Quote(this->Name);
-      return false;
-    }
-    return true;
-  }
-  bool Close(std::string&) override { return true; }
-};
-
-// Buffers a member's bytes and hands them to the sink a block at a time.
-class BlockWriter
-{
-public:
-  BlockWriter(MemberSink& sink, std::string& error)
-    : Sink(sink)
-    , Error(error)
-  {
-    this->Buffer.reserve(kBlockBytes);
-  }
-  bool Add(const void* data, std::size_t size)
-  {
-    const char* bytes = static_cast<const char*>(data);
-    this->Buffer.insert(this->Buffer.end(), bytes, bytes + size);
-    return this->Buffer.size() < kBlockBytes || this->Flush();
-  }
-  bool Flush()
-  {
-    const bool ok = this->Buffer.empty() || this->Sink.Write(this->Buffer.data(), this->Buffer.size(), this->Error);
-    this->Buffer.clear();
-    return ok;
-  }
-
-private:
-  MemberSink& Sink;
-  std::string& Error;
-  std::vector<char> Buffer;
-};
 
 // A member name TRX can hold: no '.', no '/', not empty.
 std::string MemberBase(const char* name)
@@ -225,33 +121,13 @@ void vtkSightlineTRXWriter::WriteData()
       break;
   }
 
-  std::unique_ptr<MemberSink> sink;
   std::string error;
-  if (this->WriteToDirectory)
+  std::unique_ptr<TRXArchiveWriter> sink =
+    TRXArchiveWriter::Create(this->FileName, this->WriteToDirectory, this->Compress, error);
+  if (!sink)
   {
-    std::error_code code;
-    if (std::filesystem::exists(this->FileName, code) &&
-      !(std::filesystem::is_directory(this->FileName, code) &&
-        std::filesystem::is_empty(this->FileName, code)))
-    {
-      vtkErrorMacro(<< target << " exists and is not an empty directory: a TRX directory is "
-                    << "written into a new or empty one");
-      return;
-    }
-    auto directory = std::make_unique<DirectorySink>();
-    directory->Root = this->FileName;
-    sink = std::move(directory);
-  }
-  else
-  {
-    auto zip = std::make_unique<ZipSink>();
-    zip->Deflate = this->Compress;
-    if (!zip->Zip.Open(this->FileName, error))
-    {
-      vtkErrorMacro(<< error);
-      return;
-    }
-    sink = std::move(zip);
+    vtkErrorMacro(<< target << ": " << error);
+    return;
   }
   auto failed = [&]() { vtkErrorMacro(<< target << ": " << error); };
 
@@ -392,7 +268,7 @@ void vtkSightlineTRXWriter::WriteData()
     {
       return failed();
     }
-    BlockWriter out(*sink, error);
+    TRXBlockWriter out(*sink, error);
     std::uint64_t done = 0;
     bool finite = true;
     const bool ok = eachVertex([&](vtkIdType id) {
@@ -434,7 +310,7 @@ void vtkSightlineTRXWriter::WriteData()
     {
       return failed();
     }
-    BlockWriter out(*sink, error);
+    TRXBlockWriter out(*sink, error);
     std::uint64_t at = 0;
     const vtkIdType* ids = nullptr;
     vtkIdType count = 0;
@@ -458,7 +334,7 @@ void vtkSightlineTRXWriter::WriteData()
       return false;
     }
     const char* base = static_cast<const char*>(o.Array->GetVoidPointer(0));
-    BlockWriter out(*sink, error);
+    TRXBlockWriter out(*sink, error);
     for (std::uint64_t r = 0; r < rows; ++r)
     {
       if (!out.Add(base + static_cast<std::size_t>(tupleOf(r)) * tupleBytes, tupleBytes))
@@ -516,7 +392,7 @@ void vtkSightlineTRXWriter::WriteData()
     {
       return failed();
     }
-    BlockWriter out(*sink, error);
+    TRXBlockWriter out(*sink, error);
     for (std::uint64_t m : members)
     {
       const std::uint32_t narrow = static_cast<std::uint32_t>(m);

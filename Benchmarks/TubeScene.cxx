@@ -335,45 +335,9 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
           << " B/link";
     methods.back()->result.notes = notes.str();
   }
-  double defaultBuildSeconds = kNotMeasured;
-  const TubeLayout defaultLayout{};
-  for (auto primitives : { TubeLayout::Primitives::Combined, TubeLayout::Primitives::Separate })
-    for (auto transforms : { TubeLayout::Transforms::OnTheFly, TubeLayout::Transforms::Precomputed })
-    {
-      const TubeLayout layout{ primitives, transforms };
-      const bool isDefault = primitives == defaultLayout.primitives && transforms == defaultLayout.transforms;
-      std::string label = layout.name();
-      std::replace(label.begin(), label.end(), ' ', '-');
-      label.erase(std::remove(label.begin(), label.end(), ','), label.end());
-      if (!isDefault && !options.wantsMethod("sightline:" + label))
-        continue; // the default layout always runs: the ratios divide by it
-      logProgress(name + ": sightline " + layout.name());
-      std::shared_ptr<BuiltScene> built;
-      const double seconds = timeOnce([&]
-        {
-          built = std::make_shared<BuiltScene>(withMaterial(std::make_shared<sightline::TubeSet>(
-            tree.points, tree.radii, tree.predecessors, tree.colors, layout)));
-        });
-      methods.push_back(prepareMethod(view, "sightline:" + label, built, nullptr, opaque, seconds, links));
-      std::ostringstream notes;
-      notes << built->scene->geometry(0).size() << " primitives; geometry "
-            << fixed(double(built->scene->geometryBytes()) / links, 1) << " + BVH "
-            << fixed(double(built->scene->bvhBytes()) / links, 1) << " B/link (colours not counted: "
-            << "4 B/point)";
-      methods.back()->result.notes = notes.str();
-      if (isDefault)
-        defaultBuildSeconds = seconds;
-    }
-  // Chunks of K links: the BVH shrinks about K-fold, each hit tests up to K links.
-  for (unsigned chunk : { 4u, 8u, 16u, 32u })
+  // One method per tube layout: its build time (returned), its frame, and its bytes per link.
+  auto addLayout = [&](const std::string& method, const TubeLayout& layout)
   {
-    const std::string method = "sightline:chunked-" + std::to_string(chunk);
-    if (!options.wantsMethod(method))
-      continue;
-    logProgress(name + ": sightline " + method);
-    TubeLayout layout;
-    layout.primitives = TubeLayout::Primitives::Chunked;
-    layout.chunkSize = chunk;
     std::shared_ptr<BuiltScene> built;
     const double seconds = timeOnce([&]
       {
@@ -387,6 +351,36 @@ std::vector<MethodResult> runTubes(const Options& options, const std::string& na
           << fixed(double(built->scene->bvhBytes()) / links, 1) << " B/link (colours not counted: "
           << "4 B/point)";
     methods.back()->result.notes = notes.str();
+    return seconds;
+  };
+  double defaultBuildSeconds = kNotMeasured;
+  const TubeLayout defaultLayout{};
+  for (auto primitives : { TubeLayout::Primitives::Combined, TubeLayout::Primitives::Separate })
+    for (auto transforms : { TubeLayout::Transforms::OnTheFly, TubeLayout::Transforms::Precomputed })
+    {
+      const TubeLayout layout{ primitives, transforms };
+      const bool isDefault = primitives == defaultLayout.primitives && transforms == defaultLayout.transforms;
+      std::string label = layout.name();
+      std::replace(label.begin(), label.end(), ' ', '-');
+      label.erase(std::remove(label.begin(), label.end(), ','), label.end());
+      if (!isDefault && !options.wantsMethod("sightline:" + label))
+        continue; // the default layout always runs: the ratios divide by it
+      logProgress(name + ": sightline " + layout.name());
+      const double seconds = addLayout("sightline:" + label, layout);
+      if (isDefault)
+        defaultBuildSeconds = seconds;
+    }
+  // Chunks of K links: the BVH shrinks about K-fold, each hit tests up to K links.
+  for (unsigned chunk : { 4u, 8u, 16u, 32u })
+  {
+    const std::string method = "sightline:chunked-" + std::to_string(chunk);
+    if (!options.wantsMethod(method))
+      continue;
+    logProgress(name + ": sightline " + method);
+    TubeLayout layout;
+    layout.primitives = TubeLayout::Primitives::Chunked;
+    layout.chunkSize = chunk;
+    addLayout(method, layout);
   }
   {
     // The CSG union path over the default layout's BVH: an empty opaque scene, the tubes as the

@@ -309,3 +309,120 @@ TEST(TubeChunks, LessMemoryPerLink)
   const TubeSet varying(p, radii, predecessors, {}, chunked(16));
   EXPECT_EQ(varying.memoryBytes(), p.size() * 16 + chunkCount * 12 + 8);
 }
+
+namespace
+{
+/// Splits tubes into runs (each point's predecessor the point before, -1 at a run's start), as
+/// a tractogram's streamlines are: the input the run builder takes.
+Tubes runsOf(const Tubes& tubes)
+{
+  Tubes runs = tubes;
+  for (std::size_t i = 0; i < runs.predecessors.size(); ++i)
+    if (runs.predecessors[i] != std::int64_t(i) - 1)
+      runs.predecessors[i] = -1;
+  return runs;
+}
+
+std::shared_ptr<TubeSet> buildRuns(const Tubes& runs, const dvec3& origin, unsigned chunkSize,
+  const std::vector<std::uint32_t>& colors = {}, bool reserve = false)
+{
+  TubeRunBuilder builder(origin, chunkSize, !colors.empty());
+  if (reserve)
+    builder.reserve(runs.points.size());
+  for (std::size_t begin = 0; begin < runs.points.size();)
+  {
+    std::size_t end = begin + 1;
+    while (end < runs.points.size() && runs.predecessors[end] == std::int64_t(end) - 1)
+      ++end;
+    builder.addRun(runs.points.data() + begin, runs.radii.data() + begin,
+      colors.empty() ? nullptr : colors.data() + begin, end - begin);
+    EXPECT_EQ(builder.pointsGiven(), end);
+    begin = end;
+  }
+  return builder.finish();
+}
+} // namespace
+
+TEST(TubeChunks, RunBuilderBuildsWhatTheConstructorBuilds)
+{
+  // Bad points among the runs: dropped with their links, the run going on as a new tube.
+  Tubes runs = runsOf(randomTubes(5));
+  runs.points[17].x = NAN;
+  runs.radii[40] = -1.0f;
+  runs.radii[41] = INFINITY;
+  std::vector<std::uint32_t> colors(runs.points.size());
+  for (std::size_t i = 0; i < colors.size(); ++i)
+    colors[i] = packRGBA8(std::uint8_t(i * 37), std::uint8_t(i * 11), std::uint8_t(i * 5));
+  const dvec3 origin(120.0, -40.0, 7.0);
+  for (unsigned size : { 1u, 3u, TubeLayout::kDefaultChunkSize })
+  {
+    const TubeSet reference(origin, runs.points, runs.radii, runs.predecessors, colors, chunked(size));
+    const auto built = buildRuns(runs, origin, size, colors, size == 3u);
+    ASSERT_EQ(built->size(), reference.size()) << "chunk size " << size;
+    EXPECT_EQ(built->pointCount(), reference.pointCount());
+    EXPECT_EQ(built->linkCount(), reference.linkCount());
+    EXPECT_EQ(built->report().rejected, 3u);
+    EXPECT_EQ(built->report().reasons, reference.report().reasons);
+    // The same tables; grown per-node vectors keep at most an eighth of slack.
+    EXPECT_GE(built->memoryBytes(), reference.memoryBytes());
+    EXPECT_LE(built->memoryBytes(), reference.memoryBytes() * 9 / 8);
+    EXPECT_EQ(built->layout().name(), reference.layout().name());
+    for (unsigned c = 0; c < built->size(); ++c)
+    {
+      EXPECT_EQ(built->nodeOfPrimitive(c), reference.nodeOfPrimitive(c));
+      EXPECT_EQ(built->bounds(c).lower, reference.bounds(c).lower);
+      EXPECT_EQ(built->bounds(c).upper, reference.bounds(c).upper);
+    }
+    for (std::uint32_t node = 0; node < built->pointCount(); ++node)
+    {
+      EXPECT_EQ(built->predecessorOf(node), reference.predecessorOf(node)) << "node " << node;
+      EXPECT_EQ(built->sourceIndexOf(node), reference.sourceIndexOf(node)) << "node " << node;
+      EXPECT_EQ(built->partColor(2 * node), reference.partColor(2 * node));
+    }
+    EXPECT_EQ(built->bounds().lower, reference.bounds().lower);
+    EXPECT_EQ(built->bounds().upper, reference.bounds().upper);
+  }
+  // And the images: the built set against the combined layout, pixel by pixel.
+  const Tubes clean = runsOf(randomTubes(9));
+  const auto built = buildRuns(clean, dvec3(0.0), TubeLayout::kDefaultChunkSize);
+  const TubeSet reference(clean.points, clean.radii, clean.predecessors, {}, chunked());
+  EXPECT_EQ(built->report().rejected, 0u);
+  EXPECT_EQ(built->sourceIndexOf(5), 5u);
+  EXPECT_GT(compareLayouts(clean, dvec3(0.0), TubeLayout::kDefaultChunkSize), 1000);
+  EmbreeScene a, b;
+  a.add(built);
+  b.add(std::make_shared<TubeSet>(reference));
+  a.commit();
+  b.commit();
+  const View view = viewOf(reference.bounds(), 96);
+  for (int py = 0; py < 96; ++py)
+    for (int px = 0; px < 96; ++px)
+    {
+      const DoubleRay ray = view.camera.doublePrimaryRay(px + 0.5, py + 0.5);
+      SceneHit ha, hb;
+      ASSERT_EQ(a.intersect(ray, ha), b.intersect(ray, hb)) << "pixel " << px << ", " << py;
+      EXPECT_EQ(ha.t, hb.t);
+    }
+}
+
+TEST(TubeChunks, RunBuilderNamesMisuse)
+{
+  const vec3 points[2] = { vec3(0.0f), vec3(1.0f, 0.0f, 0.0f) };
+  const float radii[2] = { 0.1f, 0.1f };
+  const std::uint32_t colors[2] = { 0u, 0u };
+  EXPECT_THROW(TubeRunBuilder(dvec3(NAN, 0.0, 0.0)), std::invalid_argument);
+  EXPECT_THROW(TubeRunBuilder(dvec3(0.0), 0u), std::invalid_argument);
+  TubeRunBuilder plain;
+  EXPECT_THROW(plain.addRun(points, radii, colors, 2), std::invalid_argument);
+  TubeRunBuilder coloured(dvec3(0.0), 8u, true);
+  EXPECT_THROW(coloured.addRun(points, radii, nullptr, 2), std::invalid_argument);
+  plain.addRun(points, radii, nullptr, 2);
+  plain.addRun(points, radii, nullptr, 0); // an empty run adds nothing
+  const auto set = plain.finish();
+  EXPECT_EQ(set->pointCount(), 2u);
+  EXPECT_EQ(set->linkCount(), 1u);
+  EXPECT_THROW(plain.finish(), std::logic_error);
+  EXPECT_THROW(plain.addRun(points, radii, nullptr, 2), std::logic_error);
+  // An empty builder gives an empty set.
+  EXPECT_EQ(TubeRunBuilder().finish()->size(), 0u);
+}

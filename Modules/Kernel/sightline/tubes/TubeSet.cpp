@@ -373,34 +373,65 @@ void TubeSet::buildChunks()
   // A chunk ends before a node that does not link to the node before it (a tube's start, a
   // branch, a point whose predecessor was dropped) and after chunkSize nodes: its members'
   // links are implicit. Its first node keeps its link to wherever it starts from.
-  const std::uint32_t n = std::uint32_t(Nodes.size());
-  const std::uint32_t most = Layout.chunkSize;
-  Positions.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i)
-    Positions[i] = vec3(Nodes[i]);
-  for (std::uint32_t i = 0; i < n;)
+  const std::vector<vec4> nodes = std::move(Nodes);
+  const std::vector<std::int32_t> predecessors = std::move(Predecessors);
+  Nodes = {};
+  Predecessors = {};
+  Chunked = true;
+  Positions.reserve(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    appendChunkNode(vec3(nodes[i]), nodes[i].w, predecessors[i]);
+  finishChunks();
+}
+
+void TubeSet::appendChunkNode(const vec3& position, float radius, std::int32_t predecessor)
+{
+  // While building, the chunk tables hold one entry per chunk; the last chunk is open.
+  const std::uint32_t node = std::uint32_t(Positions.size());
+  const bool joins = !ChunkStarts.empty() && predecessor == std::int32_t(node) - 1 &&
+    node - ChunkStarts.back() < Layout.chunkSize;
+  if (!joins)
   {
-    std::uint32_t end = i + 1;
-    while (end < n && end - i < most && Predecessors[end] == std::int32_t(end) - 1)
-      ++end;
-    ChunkStarts.push_back(i);
-    ChunkPredecessors.push_back(Predecessors[i]);
+    closeChunk();
+    ChunkStarts.push_back(node);
+    ChunkPredecessors.push_back(predecessor);
     RadiusStarts.push_back(std::uint32_t(Radii.size()));
-    const bool constant =
-      std::all_of(Nodes.begin() + i, Nodes.begin() + end, [&](const vec4& v) { return v.w == Nodes[i].w; });
-    for (std::uint32_t k = i; k < (constant ? i + 1 : end); ++k)
-      Radii.push_back(Nodes[k].w);
-    i = end;
   }
-  ChunkStarts.push_back(n);
+  Positions.push_back(position);
+  Radii.push_back(radius);
+}
+
+void TubeSet::closeChunk()
+{
+  if (RadiusStarts.empty())
+    return;
+  const std::size_t r = RadiusStarts.back();
+  if (Radii.size() > r + 1 &&
+    std::all_of(Radii.begin() + std::ptrdiff_t(r), Radii.end(), [&](float v) { return v == Radii[r]; }))
+    Radii.resize(r + 1);
+}
+
+void TubeSet::finishChunks()
+{
+  closeChunk();
+  ChunkStarts.push_back(std::uint32_t(Positions.size()));
   RadiusStarts.push_back(std::uint32_t(Radii.size()));
+  NodeCount = Positions.size();
+  // Vectors grown by push_back hold up to twice their size: give the slack back. Per-node
+  // vectors are the large ones (12 GB of positions at 10^9 links), whose copy would double the
+  // peak: those only where the slack is large (a builder reserves them).
+  auto trim = [](auto& v)
+  {
+    if (v.capacity() > v.size() + v.size() / 8)
+      v.shrink_to_fit();
+  };
+  trim(Positions);
+  trim(Colors);
+  trim(SourceIndex);
+  Radii.shrink_to_fit();
   ChunkStarts.shrink_to_fit();
   ChunkPredecessors.shrink_to_fit();
   RadiusStarts.shrink_to_fit();
-  Radii.shrink_to_fit();
-  std::vector<vec4>().swap(Nodes);
-  std::vector<std::int32_t>().swap(Predecessors);
-  Chunked = true;
 }
 
 std::uint32_t TubeSet::chunkOf(std::uint32_t node) const
@@ -499,5 +530,87 @@ std::size_t TubeSet::memoryBytes() const
     ChunkStarts.capacity() * sizeof(std::uint32_t) +
     ChunkPredecessors.capacity() * sizeof(std::int32_t) +
     RadiusStarts.capacity() * sizeof(std::uint32_t);
+}
+} // namespace sightline
+
+namespace sightline
+{
+TubeRunBuilder::TubeRunBuilder(const dvec3& origin, unsigned chunkSize, bool withColors)
+  : Set(new TubeSet())
+  , WithColors(withColors)
+{
+  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
+    throw std::invalid_argument("sightline::TubeRunBuilder: the origin must be finite");
+  if (chunkSize < 1)
+    throw std::invalid_argument("sightline::TubeRunBuilder: a chunk holds at least one link");
+  Set->Origin = origin;
+  Set->Layout.primitives = TubeLayout::Primitives::Chunked;
+  Set->Layout.transforms = TubeLayout::Transforms::OnTheFly;
+  Set->Layout.chunkSize = chunkSize;
+  Set->Chunked = true;
+}
+
+void TubeRunBuilder::reserve(std::size_t points)
+{
+  Set->Positions.reserve(points);
+  Set->ChunkStarts.reserve(points / Set->Layout.chunkSize + 1);
+  Set->ChunkPredecessors.reserve(points / Set->Layout.chunkSize + 1);
+  Set->RadiusStarts.reserve(points / Set->Layout.chunkSize + 1);
+  if (WithColors)
+    Set->Colors.reserve(points);
+}
+
+void TubeRunBuilder::addRun(
+  const vec3* points, const float* radii, const std::uint32_t* colors, std::size_t count)
+{
+  if (!Set)
+    throw std::logic_error("sightline::TubeRunBuilder: runs added after finish()");
+  if ((colors != nullptr) != WithColors)
+    throw std::invalid_argument(std::string("sightline::TubeRunBuilder: a run ") +
+      (WithColors ? "without colours for a builder made with them" : "with colours for a builder made without"));
+  if (Given + count >= std::size_t(INT32_MAX))
+    throw std::invalid_argument("sightline::TubeRunBuilder: " + std::to_string(Given + count) +
+      " points exceed the 2^31 - 1 a tube set indexes");
+  TubeSet& set = *Set;
+  bool linked = false; // whether the last point of this run was kept
+  for (std::size_t i = 0; i < count; ++i, ++Given)
+  {
+    if (!(isFinite(points[i]) && std::isfinite(radii[i]) && radii[i] >= 0.0f))
+    {
+      // The same reason, worded the same, as the constructor's.
+      if (set.Report.rejected++ == 0)
+      {
+        set.Report.reasons.push_back("point " + std::to_string(Given) +
+          " has a non-finite position or a negative or non-finite radius (first of the points "
+          "dropped for this reason, with their links)");
+        // Kept nodes so far are the points given so far, in order.
+        SourceIndex.resize(set.Positions.size());
+        for (std::size_t k = 0; k < SourceIndex.size(); ++k)
+          SourceIndex[k] = std::uint32_t(k);
+      }
+      linked = false;
+      continue;
+    }
+    const std::int32_t node = std::int32_t(set.Positions.size());
+    set.appendChunkNode(points[i], radii[i], linked ? node - 1 : -1);
+    set.Links += linked ? 1 : 0;
+    if (colors)
+      set.Colors.push_back(colors[i]);
+    if (set.Report.rejected > 0)
+      SourceIndex.push_back(std::uint32_t(Given));
+    linked = true;
+  }
+}
+
+std::shared_ptr<TubeSet> TubeRunBuilder::finish()
+{
+  if (!Set)
+    throw std::logic_error("sightline::TubeRunBuilder: finish() called twice");
+  std::shared_ptr<TubeSet> set = std::move(Set);
+  set->SourceIndex = std::move(SourceIndex);
+  set->finishChunks();
+  for (unsigned i = 0; i < set->size(); ++i)
+    set->AllBounds.extend(set->bounds(i));
+  return set;
 }
 } // namespace sightline

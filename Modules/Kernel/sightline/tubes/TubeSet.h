@@ -25,6 +25,7 @@
 #include "sightline/tubes/TubeLink.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,8 @@ struct TubeLayout
   /// "combined, on-the-fly" and so on, as the paper's Table 1 names them; "chunked (8 links), on-the-fly".
   std::string name() const;
 };
+
+class TubeRunBuilder;
 
 class TubeSet : public UserGeometry<TubeSet>
 {
@@ -119,6 +122,8 @@ public:
   const dvec3& origin() const { return Origin; }
 
 private:
+  friend class TubeRunBuilder;
+  TubeSet() = default;
   /// Stump parameters in single precision (the precomputed layouts).
   struct StoredStump
   {
@@ -129,6 +134,14 @@ private:
   std::uint32_t nodeOf(unsigned primitive) const;
   /// Chunked layout: the chunks from Nodes and Predecessors, which are then freed.
   void buildChunks();
+  /// Chunked layout: appends a node linked to `predecessor` (a kept node or -1); it joins the
+  /// open chunk when it links to the node before and the chunk has room.
+  void appendChunkNode(const vec3& position, float radius, std::int32_t predecessor);
+  /// Chunked layout: one radius for the open (last) chunk when all its radii are equal.
+  void closeChunk();
+  /// Chunked layout: closes the open chunk and ends the chunk tables with the node and radius
+  /// counts (as the chunk members' comment below has them).
+  void finishChunks();
   std::uint32_t chunkOf(std::uint32_t node) const;
   /// Position and radius of a node in any layout.
   vec4 nodeAt(std::uint32_t node) const;
@@ -157,5 +170,37 @@ private:
   std::vector<std::uint32_t> Colors;
   Box3 AllBounds;
   ValidationReport Report;
+};
+
+/// Builds a chunked tube set (TubeLayout::Primitives::Chunked) one run of linked points at a
+/// time, never holding the predecessor form the constructor takes: what streaming a whole-brain
+/// tractogram piece by piece needs (Documentation/tubes.md). Runs added here draw exactly what
+/// the constructor draws for the same points with each point's predecessor the point before
+/// (-1 at a run's start): a point with a non-finite position or a negative or non-finite radius
+/// is dropped with its links, and the run goes on from the next point as a new tube.
+class TubeRunBuilder
+{
+public:
+  /// Points are given relative to `origin` (see TubeSet's constructors).
+  explicit TubeRunBuilder(const dvec3& origin = dvec3(0.0),
+    unsigned chunkSize = TubeLayout::kDefaultChunkSize, bool withColors = false);
+
+  /// Room for `points` control points in all, to spare the copies of growing vectors (a hint).
+  void reserve(std::size_t points);
+  /// One tube through `count` points: `radii` one per point; `colors` (RGBA8) one per point,
+  /// given exactly when the builder was made withColors. Throws std::invalid_argument past
+  /// 2^31 - 1 points in all.
+  void addRun(const vec3* points, const float* radii, const std::uint32_t* colors, std::size_t count);
+
+  /// Points given so far (kept or dropped): the constructor index the next point gets.
+  std::size_t pointsGiven() const { return Given; }
+  /// The tube set (the builder is empty afterwards).
+  std::shared_ptr<TubeSet> finish();
+
+private:
+  std::shared_ptr<TubeSet> Set;
+  std::vector<std::uint32_t> SourceIndex; ///< filled from the first dropped point on
+  std::size_t Given = 0;
+  bool WithColors = false;
 };
 } // namespace sightline

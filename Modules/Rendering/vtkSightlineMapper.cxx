@@ -64,6 +64,28 @@ public:
   bool WarnedPositionalLight = false;
 };
 
+namespace
+{
+// The latest modification time of the algorithms upstream of `algorithm` (their data objects
+// included, as a vtkTrivialProducer reports them): what says that a pulled input changed
+// without updating it.
+vtkMTimeType UpstreamTime(vtkAlgorithm* algorithm)
+{
+  vtkMTimeType latest = 0;
+  for (int port = 0; port < algorithm->GetNumberOfInputPorts(); ++port)
+  {
+    for (int c = 0; c < algorithm->GetNumberOfInputConnections(port); ++c)
+    {
+      if (vtkAlgorithm* producer = algorithm->GetInputAlgorithm(port, c))
+      {
+        latest = std::max({ latest, producer->GetMTime(), UpstreamTime(producer) });
+      }
+    }
+  }
+  return latest;
+}
+} // namespace
+
 //------------------------------------------------------------------------------
 vtkSightlineMapper::vtkSightlineMapper()
   : Internals(new vtkInternals)
@@ -108,9 +130,11 @@ bool vtkSightlineMapper::UpdateScene()
   // data arrives, and an empty block is ordinary.
   vtkInternals& in = *this->Internals;
   SightlineMapperInput& input = in.InputOf(this);
-  vtkDataSet* drawn = input.Get(this, !this->Static);
+  const bool pulls = this->PullsInputPieces();
+  vtkDataSet* drawn = pulls ? nullptr : input.Get(this, !this->Static);
 
-  vtkMTimeType changed = std::max(this->GetMTime(), input.GetInputTime(this));
+  vtkMTimeType changed =
+    std::max(this->GetMTime(), pulls ? UpstreamTime(this) : input.GetInputTime(this));
   if (this->ScalarVisibility && this->LookupTable)
   {
     changed = std::max(changed, this->LookupTable->GetMTime());
@@ -124,7 +148,7 @@ bool vtkSightlineMapper::UpdateScene()
     {
       vtkNew<vtkTimerLog> timer;
       timer->StartTimer();
-      in.Geometry = drawn ? this->BuildGeometry() : nullptr;
+      in.Geometry = drawn || pulls ? this->BuildGeometry() : nullptr;
       timer->StopTimer();
       this->LastGeometrySeconds = timer->GetElapsedTime();
       if (in.Geometry && in.Geometry->size() > 0)

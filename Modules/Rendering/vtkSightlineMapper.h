@@ -334,6 +334,14 @@ protected:
   virtual const char* GetDrawnInputType() { return "vtkDataSet"; }
   virtual bool AppendsCompositeLeaves() { return false; }
 
+  /**
+   * Whether BuildGeometry() pulls its input from the upstream pipeline itself, piece by piece
+   * (vtkSightlineTubeMapper::StreamedPieces): then UpdateScene() neither updates the input
+   * whole nor needs it to have points, and rebuilds when an upstream algorithm changed.
+   * Default false.
+   */
+  virtual bool PullsInputPieces() { return false; }
+
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   int ShadowMode = SHADOWS_OFF;

@@ -7,13 +7,17 @@
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
+#include "vtkAlgorithmOutput.h"
 #include "vtkIdList.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnstructuredGrid.h"
 
 #include "sightline/tubes/TubeSet.h"
@@ -21,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <vector>
 
 vtkStandardNewMacro(vtkSightlineTubeMapper);
@@ -82,20 +87,10 @@ int vtkSightlineTubeMapper::GetVaryRadius()
                                                          : VARY_RADIUS_OFF;
 }
 
-std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
+bool vtkSightlineTubeMapper::ComputePointRadii(vtkPointSet* input, std::vector<float>& radius)
 {
-  this->NumberOfLinks = 0;
-  this->BuiltLinkLayout = -1;
-  // Called only with points to draw (an empty input draws nothing, quietly).
-  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
-  const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
-  if (count == 0)
-  {
-    return nullptr;
-  }
-
-  // Radius per input point.
-  std::vector<float> radius(count, static_cast<float>(this->Radius));
+  const vtkIdType count = input->GetNumberOfPoints();
+  radius.assign(static_cast<std::size_t>(count), static_cast<float>(this->Radius));
   const int vary = this->GetVaryRadius();
   if (vary != VARY_RADIUS_OFF)
   {
@@ -106,7 +101,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
       (named ? "'" + std::string(this->RadiusArrayName) + "'" : std::string("(active scalars)"));
     if (!this->CheckPointArray(array, label, count, 1, "no tubes rendered", true))
     {
-      return nullptr;
+      return false;
     }
     double range[2];
     array->GetRange(range, 0);
@@ -123,6 +118,31 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   {
     vtkErrorMacro(<< "Radius must be non-negative and finite, got " << this->Radius
                   << "; no tubes rendered.");
+    return false;
+  }
+  return true;
+}
+
+std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
+{
+  this->NumberOfLinks = 0;
+  this->BuiltLinkLayout = -1;
+  this->Streamed = StreamedRuns();
+  if (this->PullsInputPieces())
+  {
+    return this->BuildStreamedGeometry();
+  }
+  // Called only with points to draw (an empty input draws nothing, quietly).
+  vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
+  const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
+  if (count == 0)
+  {
+    return nullptr;
+  }
+
+  std::vector<float> radius;
+  if (!this->ComputePointRadii(input, radius))
+  {
     return nullptr;
   }
 
@@ -273,10 +293,216 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 }
 
 //------------------------------------------------------------------------------
+bool vtkSightlineTubeMapper::PullsInputPieces()
+{
+  return this->StreamedPieces > 1 && this->GetNumberOfInputConnections(0) > 0;
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeometry()
+{
+  // What a piece alone cannot give is an error before any piece is read.
+  if (this->LinkLayout != LINKS_AUTOMATIC && this->LinkLayout != LINKS_CHUNKED)
+  {
+    vtkErrorMacro(<< "StreamedPieces (" << this->StreamedPieces << ") builds chunked tubes; "
+                  << "LinkLayout " << this->GetLinkLayoutAsString() << " needs the input whole. "
+                  << "Set LinkLayout to LINKS_CHUNKED or LINKS_AUTOMATIC, or StreamedPieces to 1; "
+                  << "no tubes rendered.");
+    return nullptr;
+  }
+  if (this->PredecessorArrayName && *this->PredecessorArrayName)
+  {
+    vtkErrorMacro(<< "StreamedPieces draws polylines; predecessor indices (PredecessorArrayName '"
+                  << this->PredecessorArrayName << "') can name points of other pieces. Set "
+                  << "StreamedPieces to 1; no tubes rendered.");
+    return nullptr;
+  }
+  if (this->GetVaryRadius() == VARY_RADIUS_BY_SCALAR)
+  {
+    vtkErrorMacro(<< "StreamedPieces cannot scale radii by the radius array's range "
+                  << "(VARY_RADIUS_BY_SCALAR): that is the whole input's. Use "
+                  << "VARY_RADIUS_BY_ABSOLUTE_SCALAR, or StreamedPieces 1; no tubes rendered.");
+    return nullptr;
+  }
+
+  vtkAlgorithmOutput* connection = this->GetInputConnection(0, 0);
+  vtkAlgorithm* producer = connection->GetProducer();
+  const int port = connection->GetIndex();
+  const int pieces = this->StreamedPieces;
+  std::unique_ptr<sightline::TubeRunBuilder> builder;
+  sightline::dvec3 origin(0.0);
+  vtkIdType pointOffset = 0, cellOffset = 0, skipped = 0, lines = 0;
+  bool colored = false;
+  vtkNew<vtkIdList> ids;
+  std::vector<float> radius;
+  std::vector<sightline::vec3> local;
+  for (int piece = 0; piece < pieces; ++piece)
+  {
+    // Ask for this piece on the producer's output port (the others as they are).
+    vtkNew<vtkInformationVector> requests;
+    for (int p = 0; p < producer->GetNumberOfOutputPorts(); ++p)
+    {
+      vtkNew<vtkInformation> request;
+      if (p == port)
+      {
+        request->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), piece);
+        request->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), pieces);
+        request->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+      }
+      requests->Append(request);
+    }
+    if (!producer->Update(port, requests))
+    {
+      vtkErrorMacro(<< "The input's producer (" << producer->GetClassName() << ") failed on piece "
+                    << piece << " of " << pieces << "; no tubes rendered.");
+      return nullptr;
+    }
+    vtkDataObject* output = producer->GetOutputDataObject(port);
+    for (vtkPointSet* input : SightlineMapperInput::PointSets(output))
+    {
+      const vtkIdType count = input->GetPoints() ? input->GetNumberOfPoints() : 0;
+      const vtkIdType cells = input->GetNumberOfCells();
+      if (count > 0)
+      {
+        if (!this->ComputePointRadii(input, radius))
+        {
+          return nullptr;
+        }
+        bool cellScalars = false;
+        const std::vector<std::uint32_t> pointColors =
+          SightlineKernelConversions::PointColors(this, input, &cellScalars);
+        const std::vector<std::uint32_t> cellColors = cellScalars
+          ? SightlineKernelConversions::CellColors(this, input)
+          : std::vector<std::uint32_t>();
+        // Points relative to the first piece's centre: a tractogram's pieces share its extent.
+        std::vector<sightline::dvec3> world(static_cast<std::size_t>(count));
+        for (vtkIdType i = 0; i < count; ++i)
+        {
+          input->GetPoint(i, &world[i].x);
+        }
+        if (!builder)
+        {
+          origin = SightlineKernelConversions::ToLocalFrame(world, local);
+          colored = !pointColors.empty() || !cellColors.empty();
+          builder = std::make_unique<sightline::TubeRunBuilder>(
+            origin, sightline::TubeLayout::kDefaultChunkSize, colored);
+          // Pieces of one reader hold about as many points each.
+          builder->reserve(static_cast<std::size_t>(1.05 * double(count) * pieces));
+        }
+        else
+        {
+          local.resize(world.size());
+          for (std::size_t i = 0; i < world.size(); ++i)
+          {
+            local[i] = sightline::vec3(world[i] - origin);
+          }
+        }
+        std::vector<sightline::dvec3>().swap(world);
+        if (colored != (!pointColors.empty() || !cellColors.empty()))
+        {
+          vtkErrorMacro(<< "Piece " << piece << " is " << (colored ? "not " : "")
+                        << "coloured by scalars where the first piece was" << (colored ? "" : " not")
+                        << "; give every piece the same arrays. No tubes rendered.");
+          return nullptr;
+        }
+        std::vector<sightline::vec3> runPoints;
+        std::vector<float> runRadii;
+        std::vector<std::uint32_t> runColors;
+        lines += ForEachPolyline(input, ids,
+          [&](vtkIdType c, vtkIdList* cell)
+          {
+            const vtkIdType n = cell->GetNumberOfIds();
+            const vtkIdType* first = cell->GetPointer(0);
+            const vtkIdType* last = first + n;
+            if (std::any_of(first, last, [count](vtkIdType id) { return id < 0 || id >= count; }))
+            {
+              if (skipped++ == 0)
+              {
+                vtkWarningMacro(<< "Polyline " << cellOffset + c << " names a point its piece does "
+                                << "not have; such polylines are left out.");
+              }
+              return;
+            }
+            runPoints.clear();
+            runRadii.clear();
+            runColors.clear();
+            bool consecutive = true;
+            for (vtkIdType k = 0; k < n; ++k)
+            {
+              const vtkIdType id = first[k];
+              consecutive = consecutive && (k == 0 || id == first[k - 1] + 1);
+              runPoints.push_back(local[static_cast<std::size_t>(id)]);
+              runRadii.push_back(radius[static_cast<std::size_t>(id)]);
+              if (colored)
+              {
+                runColors.push_back(
+                  pointColors.empty() ? cellColors[static_cast<std::size_t>(c)] : pointColors[id]);
+              }
+            }
+            this->Streamed.FirstControlPoint.push_back(static_cast<std::uint32_t>(builder->pointsGiven()));
+            this->Streamed.Cell.push_back(cellOffset + c);
+            this->Streamed.FirstPoint.push_back(n > 0 && consecutive ? pointOffset + first[0] : -1);
+            builder->addRun(runPoints.data(), runRadii.data(), colored ? runColors.data() : nullptr,
+              runPoints.size());
+          });
+      }
+      pointOffset += count;
+      cellOffset += cells;
+    }
+    // The piece is not needed past here; released data also makes the next build read again.
+    output->ReleaseData();
+    this->UpdateProgress(double(piece + 1) / pieces);
+  }
+  if (skipped > 1)
+  {
+    vtkWarningMacro(<< skipped << " polylines name points their piece does not have; they are left out.");
+  }
+  if (!builder)
+  {
+    return nullptr; // no piece had points: nothing to draw, quietly
+  }
+  if (lines == 0)
+  {
+    vtkErrorMacro(<< "The input's pieces have no polylines; give line or polyline cells to stream "
+                     "(or set StreamedPieces to 1).");
+    return nullptr;
+  }
+  auto tubes = builder->finish();
+  SightlineKernelConversions::WarnAboutReport(this, tubes->report());
+  for (auto* v : { &this->Streamed.Cell, &this->Streamed.FirstPoint })
+  {
+    v->shrink_to_fit();
+  }
+  this->Streamed.FirstControlPoint.shrink_to_fit();
+  this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
+  this->BuiltLinkLayout = LINKS_CHUNKED;
+  return tubes;
+}
+
+//------------------------------------------------------------------------------
 void vtkSightlineTubeMapper::ComputeSelectionIds(
   std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds)
 {
   auto* tubes = dynamic_cast<sightline::TubeSet*>(this->GetGeometry());
+  if (tubes && !this->Streamed.FirstControlPoint.empty())
+  {
+    // Streamed: the input is gone; each tube knows its polyline and its first point's id.
+    const auto& starts = this->Streamed.FirstControlPoint;
+    for (std::size_t p = 0; p < pointIds.size(); ++p)
+    {
+      const std::uint32_t node = tubes->nodeOfSelection(static_cast<std::uint32_t>(p));
+      const std::int32_t predecessor = tubes->predecessorOf(node);
+      const std::size_t own = tubes->sourceIndexOf(node);
+      const std::size_t start =
+        predecessor >= 0 ? tubes->sourceIndexOf(static_cast<std::uint32_t>(predecessor)) : own;
+      const std::size_t run =
+        static_cast<std::size_t>(std::upper_bound(starts.begin(), starts.end(), own) - starts.begin()) - 1;
+      cellIds[p] = this->Streamed.Cell[run];
+      const vtkIdType firstPoint = this->Streamed.FirstPoint[run];
+      pointIds[p] = firstPoint >= 0 ? firstPoint + static_cast<vtkIdType>(start - starts[run]) : -1;
+    }
+    return;
+  }
   vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
   if (!tubes || !input)
   {
@@ -390,4 +616,5 @@ void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BuiltLinkLayout: " << this->BuiltLinkLayout << "\n";
   os << indent << "AutomaticChunkedLinks: " << this->AutomaticChunkedLinks << "\n";
   os << indent << "NumberOfLinks: " << this->NumberOfLinks << "\n";
+  os << indent << "StreamedPieces: " << this->StreamedPieces << "\n";
 }

@@ -46,6 +46,14 @@
  * (13.5 bytes per link with one radius per tube, 17.5 with varying radii, plus ~11 of BVH;
  * frames about 1.8 times slower) from there on, where memory is what limits.
  *
+ * Streaming (StreamedPieces > 1): for tractograms whose poly data would not fit beside their
+ * tubes, the mapper asks its input's producer for pieces 0 to StreamedPieces - 1 of its output
+ * one after the other (as an MPI rank asks for its own), adds each piece's polylines to chunked
+ * tubes (sightline::TubeRunBuilder) and releases the piece: the whole poly data never exists.
+ * Readers that answer piece requests (vtkSightlineTRXReader, vtkSightlineTCKReader,
+ * vtkSightlineTrackVisReader) read only each piece's streamlines. See StreamedPieces for what
+ * streaming needs.
+ *
  * @sa vtkSightlineSWCReader vtkSightlineTrackVisReader vtkSightlineTCKReader vtkTubeFilter
  */
 #ifndef vtkSightlineTubeMapper_h
@@ -53,6 +61,10 @@
 
 #include "SightlineRenderingModule.h" // for export macro
 #include "vtkSightlineMapper.h"
+
+#include <cstdint> // for std::uint32_t
+
+class vtkPointSet;
 
 class SIGHTLINERENDERING_EXPORT vtkSightlineTubeMapper : public vtkSightlineMapper
 {
@@ -142,6 +154,19 @@ public:
   ///@}
 
   /**
+   * Pieces to pull the input in (see the class comment). Default 1: the input is updated and
+   * drawn whole. Above 1 the tubes are always chunked (LinkLayout LINKS_AUTOMATIC or
+   * LINKS_CHUNKED; another layout is an error), from polylines (not PredecessorArrayName), with
+   * a constant radius or VARY_RADIUS_BY_ABSOLUTE_SCALAR (the range VARY_RADIUS_BY_SCALAR needs
+   * is the whole input's); colours come from the mapper's scalar range (set it, or the lookup
+   * table's with UseLookupTableScalarRange, to the whole input's range). Picks name cell and
+   * point ids of the whole input as pieces that number their cells and points in turn give it
+   * (as the readers above do).
+   */
+  vtkSetClampMacro(StreamedPieces, int, 1, VTK_INT_MAX);
+  vtkGetMacro(StreamedPieces, int);
+
+  /**
    * The layout the last build used (LINKS_AUTOMATIC resolved), -1 before any.
    */
   vtkGetMacro(BuiltLinkLayout, int);
@@ -162,8 +187,17 @@ protected:
 
   const char* GetDrawnInputType() override { return "vtkPointSet"; }
   bool AppendsCompositeLeaves() override { return true; }
+  bool PullsInputPieces() override;
 #ifndef __VTK_WRAP__
   std::shared_ptr<sightline::Geometry> BuildGeometry() override;
+  /**
+   * BuildGeometry() with StreamedPieces above 1.
+   */
+  std::shared_ptr<sightline::Geometry> BuildStreamedGeometry();
+  /**
+   * The radius of each point of `input` (false after an error naming the problem).
+   */
+  bool ComputePointRadii(vtkPointSet* input, std::vector<float>& radius);
   /**
    * Selection: a link (its cone stump and end sphere) is picked as the point it starts from
    * (its predecessor; a tube's first sphere as its own point) and as the polyline cell it
@@ -184,6 +218,21 @@ protected:
   int BuiltLinkLayout = -1;
   vtkIdType AutomaticChunkedLinks = 10000000;
   vtkIdType NumberOfLinks = 0;
+  int StreamedPieces = 1;
+
+#ifndef __VTK_WRAP__
+  /**
+   * A streamed build's tubes, one per polyline kept: the index of its first control point
+   * among those given to the builder, its cell id and the id of its first point in the whole
+   * input (-1 when the polyline's point ids do not follow each other).
+   */
+  struct StreamedRuns
+  {
+    std::vector<std::uint32_t> FirstControlPoint;
+    std::vector<vtkIdType> Cell;
+    std::vector<vtkIdType> FirstPoint;
+  } Streamed;
+#endif
 
 private:
   vtkSightlineTubeMapper(const vtkSightlineTubeMapper&) = delete;

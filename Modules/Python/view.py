@@ -94,6 +94,15 @@ def run_reader(algorithm, path, what):
     return algorithm.GetOutputDataObject(0)
 
 
+def run_reader_piece(reader, path, what, pieces):
+    """Piece 0 of `pieces` of a reader's output (see run_reader)."""
+    with nifti.VTKErrors() as errors:
+        reader.UpdatePiece(0, pieces, 0)
+    if errors.text:
+        raise ViewError(f"{path}: could not read it as {what}" + errors.detail())
+    return reader.GetOutput()
+
+
 class Progress:
     """Prints a VTK algorithm's ProgressEvent on stderr when a stage takes a while."""
 
@@ -123,11 +132,20 @@ def direction_colors(lines):
     tangents = np.zeros_like(points)
     cells = lines.GetLines()
     offsets = vtk_to_numpy(cells.GetOffsetsArray())
-    connectivity = vtk_to_numpy(cells.GetConnectivityArray())
-    for begin, end in zip(offsets[:-1], offsets[1:]):
-        ids = connectivity[begin:end]
-        if len(ids) > 1:
-            tangents[ids] = np.gradient(points[ids], axis=0)
+    ids = vtk_to_numpy(cells.GetConnectivityArray())
+    if len(ids):
+        # np.gradient along every polyline at once (a loop per streamline takes minutes at
+        # 10^7 of them): central differences inside, one-sided at the ends, 0 for one point.
+        used = offsets[1:] > offsets[:-1]
+        first = np.zeros(len(ids), bool)
+        last = np.zeros(len(ids), bool)
+        first[offsets[:-1][used]] = True
+        last[offsets[1:][used] - 1] = True
+        position = np.arange(len(ids))
+        following = np.where(last, position, position + 1)
+        preceding = np.where(first, position, position - 1)
+        walk = points[ids[following]] - points[ids[preceding]]
+        tangents[ids] = walk / np.where(first | last, 1.0, 2.0)[:, None]
     tangents /= np.maximum(np.linalg.norm(tangents, axis=1, keepdims=True), 1e-12)
     colors = numpy_to_vtk((np.abs(tangents) * 255).astype(np.uint8), deep=True)
     colors.SetName("direction")
@@ -135,8 +153,9 @@ def direction_colors(lines):
     return lines
 
 
-def select_groups(data, names, path):
-    """The streamlines of `data` in any of the TRX groups `names` (cell arrays group:NAME)."""
+def select_groups(data, names, path, piece=False):
+    """The streamlines of `data` in any of the TRX groups `names` (cell arrays group:NAME); a
+    `piece` of a streamed file may hold none of them."""
     cells = data.GetCellData()
     available = sorted(cells.GetArrayName(i)[6:] for i in range(cells.GetNumberOfArrays())
                        if (cells.GetArrayName(i) or "").startswith("group:"))
@@ -147,14 +166,15 @@ def select_groups(data, names, path):
             raise ViewError(f"{path}: no group '{name}' (its groups: "
                             f"{', '.join(available) if available else 'none'})")
         keep |= vtk_to_numpy(array) != 0
-    if not keep.any():
+    if not keep.any() and not piece:
         raise ViewError(f"{path}: the groups {', '.join(names)} hold no streamlines")
     lines = data.GetLines()
     offsets = vtk_to_numpy(lines.GetOffsetsArray())
     connectivity = vtk_to_numpy(lines.GetConnectivityArray())
     kept = np.flatnonzero(keep)
     lengths = offsets[kept + 1] - offsets[kept]
-    ids = np.concatenate([connectivity[offsets[c]:offsets[c + 1]] for c in kept])
+    ids = np.concatenate([connectivity[offsets[c]:offsets[c + 1]] for c in kept] +
+                         [np.zeros(0, connectivity.dtype)])
     cell_array = vtk.vtkCellArray()
     cell_array.SetData(numpy_to_vtk(np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
                                     deep=True, array_type=vtk.VTK_ID_TYPE),
@@ -172,11 +192,9 @@ def select_groups(data, names, path):
     return result
 
 
-def read_tubes(path, track_scalars=None):
-    """vtkPolyData of a .trk, .tck or .trx file (polylines in RAS+ mm, direction colours; a .tck's
-    `track_scalars` .tsf as a point array) or of an .swc file (points with Radius, Type and
-    ParentIndex arrays); ViewError naming the file when it is missing, of another type,
-    unreadable or empty."""
+def tube_reader(path, track_scalars=None):
+    """The reader of a .trk, .tck, .trx or .swc file (not updated) and what it reads; ViewError
+    for a file of another type or one that is missing."""
     extension = lower_extension(path)
     if extension not in TubeLayer.READERS:
         raise ViewError(f"{path}: not a .trk, .tck, .trx or .swc file")
@@ -192,6 +210,62 @@ def read_tubes(path, track_scalars=None):
             raise ViewError(f"{track_scalars}: no such file")
         reader.SetScalarFileName(track_scalars)
     Progress(f"reading {os.path.basename(path)}").watch(reader)
+    return reader, what
+
+
+def automatic_pieces(path):
+    """Pieces to stream a tractogram in: one per 256 MiB of file from 512 MiB on (about 2 * 10^7
+    float32 or 4 * 10^7 float16 points a piece), else 1: the whole file's poly data (about 20
+    bytes a point) then stays below the tubes' own memory."""
+    if os.path.isdir(path):
+        size = sum(os.path.getsize(os.path.join(root, name))
+                   for root, _, names in os.walk(path) for name in names)
+    else:
+        size = os.path.getsize(path)
+    piece = 256 * 2 ** 20
+    return 1 if size < 2 * piece else math.ceil(size / piece)
+
+
+try:
+    from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+except ImportError:  # VTK without its Python algorithm helper: no streaming
+    VTKPythonAlgorithmBase = object
+
+
+class TractogramPieces(VTKPythonAlgorithmBase):
+    """Each piece of a streamline reader's output as the viewer draws it: direction colours,
+    and only the streamlines of the chosen TRX groups. The tube mapper pulls pieces through it
+    one at a time (vtkSightlineTubeMapper::StreamedPieces)."""
+
+    def __init__(self, path, groups):
+        super().__init__(nInputPorts=1, inputType="vtkPolyData",
+                         nOutputPorts=1, outputType="vtkPolyData")
+        self.path, self.groups, self.error = path, groups, None
+
+    def RequestData(self, request, in_info, out_info):
+        piece = vtk.vtkPolyData.GetData(in_info[0])
+        output = vtk.vtkPolyData.GetData(out_info)
+        data = vtk.vtkPolyData()
+        data.ShallowCopy(piece)
+        if data.GetNumberOfPoints() > 0:
+            direction_colors(data)
+            if self.groups:
+                try:
+                    data = select_groups(data, self.groups, self.path, piece=True)
+                except ViewError as error:
+                    self.error = error
+                    return 0
+        output.ShallowCopy(data)
+        return 1
+
+
+def read_tubes(path, track_scalars=None):
+    """vtkPolyData of a .trk, .tck or .trx file (polylines in RAS+ mm, direction colours; a .tck's
+    `track_scalars` .tsf as a point array) or of an .swc file (points with Radius, Type and
+    ParentIndex arrays); ViewError naming the file when it is missing, of another type,
+    unreadable or empty."""
+    extension = lower_extension(path)
+    reader, what = tube_reader(path, track_scalars)
     data = vtk.vtkPolyData()
     data.DeepCopy(run_reader(reader, path, what))
     if data.GetNumberOfPoints() == 0:
@@ -203,10 +277,11 @@ def read_tubes(path, track_scalars=None):
     return data
 
 
-def color_by_array(mapper, data, name, path, whole):
+def color_by_array(mapper, data, name, path, whole=None, value_range=None):
     """Colours tubes by the point or cell (per streamline) array `name` through a lookup table
-    over its range in the whole file `whole` (so that a group keeps the colours it has among
-    all streamlines; vectors by magnitude); ViewError listing the arrays when there is none."""
+    over its range in the whole file `whole`, or `value_range` (so that a group keeps the
+    colours it has among all streamlines; vectors by magnitude); ViewError listing the arrays
+    of `data` when it has none of that name."""
     point, cell = data.GetPointData().GetArray(name), data.GetCellData().GetArray(name)
     if point is None and cell is None:
         names = sorted(({data.GetPointData().GetArrayName(i)
@@ -216,8 +291,9 @@ def color_by_array(mapper, data, name, path, whole):
         raise ViewError(f"{path}: no array '{name}' to colour by (its arrays: "
                         f"{', '.join(names) if names else 'none'})")
     array = point if point is not None else cell
-    whole_array = (whole.GetPointData() if point is not None else whole.GetCellData()).GetArray(name)
-    low, high = whole_array.GetRange(-1 if array.GetNumberOfComponents() > 1 else 0)
+    if value_range is None:
+        value_range = array_range(whole, name)
+    low, high = value_range
     table = vtk.vtkLookupTable()
     table.SetHueRange(0.667, 0.0)  # blue to red
     table.SetTableRange(low, high if high > low else low + 1)
@@ -233,6 +309,30 @@ def color_by_array(mapper, data, name, path, whole):
     mapper.SelectColorArray(name)
     return f"coloured by {name} ({'per point' if point is not None else 'per streamline'}, " \
            f"{low:.3g} to {high:.3g})"
+
+
+def array_range(data, name):
+    """The range of the point or cell array `name` of `data` (of its magnitude for vectors)."""
+    array = data.GetPointData().GetArray(name) or data.GetCellData().GetArray(name)
+    return array.GetRange(-1 if array.GetNumberOfComponents() > 1 else 0)
+
+
+def streamed_range(reader, name, pieces, path, what):
+    """The range of array `name` over every piece of `reader`'s output, each piece read and
+    released in turn (the lookup table must span the whole file); None without such an array."""
+    low, high = math.inf, -math.inf
+    for piece in range(pieces):
+        with nifti.VTKErrors() as errors:
+            reader.UpdatePiece(piece, pieces, 0)
+        if errors.text:
+            raise ViewError(f"{path}: could not read it as {what}" + errors.detail())
+        data = reader.GetOutput()
+        if data.GetNumberOfPoints() and (data.GetPointData().GetArray(name) or
+                                         data.GetCellData().GetArray(name)):
+            a, b = array_range(data, name)
+            low, high = min(low, a), max(high, b)
+        data.ReleaseData()
+    return (low, high) if low <= high else None
 
 
 def shade(prop, ambient=0.2, specular=0.3):
@@ -276,6 +376,11 @@ class TubeLayer(Layer):
 
     def __init__(self, path, extension, args):
         super().__init__(path)
+        pieces = 1 if extension == ".swc" else (args.pieces or automatic_pieces(path))
+        self.streamed = pieces > 1
+        if self.streamed:
+            self.stream(path, args, pieces)
+            return
         data = whole = read_tubes(path, args.tsf)
         if args.group:
             if extension != ".trx":
@@ -331,6 +436,55 @@ class TubeLayer(Layer):
         self.mapper, self.actors = mapper, [actor]
         self.data = data
 
+    def stream(self, path, args, pieces):
+        """The tractogram pulled by the tube mapper in `pieces`, each released once its tubes
+        are built: the whole poly data never exists (vtkSightlineTubeMapper::StreamedPieces)."""
+        reader, what = tube_reader(path, args.tsf)
+        reader.ReleaseDataFlagOn()  # each piece goes once the filter below has used it
+        # Piece 0 first: it names what a bad file or option is before the long work.
+        first = vtk.vtkPolyData()
+        first.ShallowCopy(run_reader_piece(reader, path, what, pieces))
+        if first.GetNumberOfPoints() == 0 and pieces == 1:
+            raise ViewError(f"{path}: holds no points ({what} with nothing to draw)")
+        if args.group:
+            if lower_extension(path) != ".trx":
+                raise ViewError(f"{path}: --group selects TRX groups; this is not a .trx")
+            select_groups(first, args.group, path, piece=True)  # names an unknown group
+        color_array = args.color or (os.path.basename(args.tsf)[:-4] if args.tsf else None)
+        mapper = sightline.vtkSightlineTubeMapper()
+        mapper.SetColorModeToDirectScalars()
+        radius = args.radius or 0.5  # streamed files are whole brains, in mm
+        mapper.SetRadius(radius)
+        self.radius_text = f"radius {radius:.3g}"
+        colouring = ""
+        if color_array:
+            value_range = streamed_range(reader, color_array, pieces, path, what)
+            if value_range is None:
+                color_by_array(mapper, first, color_array, path)  # names the arrays there are
+            colouring = ", " + color_by_array(mapper, first, color_array, path,
+                                              value_range=value_range)
+        first.ReleaseData()
+        pieces_filter = TractogramPieces(path, args.group)
+        pieces_filter.SetInputConnection(reader.GetOutputPort())
+        mapper.SetInputConnection(pieces_filter.GetOutputPort())
+        mapper.SetLinkLayout(mapper.LINKS_CHUNKED)
+        mapper.SetStreamedPieces(pieces)
+        Progress(f"tubes of {os.path.basename(path)}").watch(mapper)
+        with nifti.VTKErrors() as errors:
+            mapper.GetBounds()  # builds the tubes, piece by piece
+        if pieces_filter.error:
+            raise pieces_filter.error
+        if errors.text or mapper.GetNumberOfLinks() == 0:
+            raise ViewError(f"{path}: could not draw it as {what}" + errors.detail())
+        self.count_text = (f"{mapper.GetNumberOfLinks()} points streamed in {pieces} pieces"
+                           + colouring)
+        actor = vtk.vtkActor()
+        actor.SetMapper(mapper)
+        shade(actor.GetProperty())
+        self.mapper, self.actors = mapper, [actor]
+        self.keep = (reader, pieces_filter)
+        self.data = None
+
     def set_translucent(self, on):
         self.actors[0].GetProperty().SetOpacity(TRANSLUCENT if on else 1.0)
         return True
@@ -340,7 +494,9 @@ class TubeLayer(Layer):
 
     def frame_points(self):
         """The tubes' points (at most 5000 of them): a bundle's bounding box has empty
-        corners that would make it look small."""
+        corners that would make it look small. Streamed: the tubes' bounds."""
+        if self.data is None:
+            return super().frame_points()
         points = vtk_to_numpy(self.data.GetPoints().GetData()).astype(float)
         return points[::max(1, len(points) // 5000)]
 
@@ -1042,6 +1198,10 @@ def parse_arguments(argv):
                             "named after the file, which colours the tubes unless --color says")
     other.add_argument("--group", action="append", metavar="NAME",
                        help="show only the streamlines of this TRX group (repeat for several)")
+    other.add_argument("--pieces", type=int, default=0, metavar="N",
+                       help="stream a tractogram in N pieces, never holding its poly data whole "
+                            "(chunked tubes; default: 1 below 512 MiB of file, else one piece "
+                            "per 256 MiB)")
     other.add_argument("--grid", choices=("spherical", "cylindrical"), default="spherical",
                        help=".vtr coordinates: (r, theta, phi) or (rho, phi, z)")
     other.add_argument("--angles", choices=("auto", "radians", "degrees"), default="auto",
@@ -1056,6 +1216,8 @@ def parse_arguments(argv):
         parser.error(f"--scale must be positive, got {args.scale}")
     if args.radius is not None and args.radius <= 0:
         parser.error(f"--radius must be positive, got {args.radius}")
+    if args.pieces < 0:
+        parser.error(f"--pieces must be 1 or more (0: automatic), got {args.pieces}")
     if min(args.size) <= 0:
         parser.error(f"--size must be positive, got {args.size[0]} {args.size[1]}")
     return args

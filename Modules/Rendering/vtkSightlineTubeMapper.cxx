@@ -362,7 +362,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
     {
       const vtkIdType count = input->GetPoints() ? input->GetNumberOfPoints() : 0;
       const vtkIdType cells = input->GetNumberOfCells();
-      if (count > 0)
+      if (count > 0 && cells > 0) // (a piece may hold no streamline, e.g. of chosen groups)
       {
         if (!this->ComputePointRadii(input, radius))
         {

@@ -229,26 +229,39 @@ class View(unittest.TestCase):
         self.assertIn("50 streamlines", result.stdout)
         self.assertIn("coloured by bundle (per streamline, 0 to 2)", result.stdout)
         self.assertLess(one.mean(), 0.6 * everything.mean())
-        # Per-streamline colours: two groups coloured by bundle show exactly two hues.
+        # Per-streamline colours: two groups coloured by bundle show exactly two hues, read
+        # whole or streamed in pieces (each piece's groups selected, the range the whole file's).
         output = os.path.join(self.folder, "trx_two.png")
-        self.run_view(trx, "--group", "AF_L", "--group", "CST_R", "--color", "bundle",
-                      "--output", output, "--size", *map(str, SIZE))
-        reader = vtk.vtkPNGReader()
-        reader.SetFileName(output)
-        reader.Update()
-        rgb = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
-        covered = np.abs(rgb - BACKGROUND).max(axis=1) > 8
-        hue = np.argmax(rgb[covered], axis=1)  # blue (bundle 0) or red (bundle 1 of 0..2: green)
-        self.assertGreater(np.mean(hue == 2), 0.2)  # AF_L, bundle 0: the table's blue end
-        self.assertGreater(np.mean(hue == 1), 0.2)  # CST_R, bundle 1: its green middle
-        self.assertLess(np.mean(hue == 0), 0.05)    # no red: bundle 2 is not shown
+        for pieces in ("1", "5"):
+            result = self.run_view(trx, "--group", "AF_L", "--group", "CST_R", "--color", "bundle",
+                                   "--pieces", pieces, "--output", output, "--size", *map(str, SIZE))
+            self.assertIn("coloured by bundle (per streamline, 0 to 2)", result.stdout)
+            reader = vtk.vtkPNGReader()
+            reader.SetFileName(output)
+            reader.Update()
+            rgb = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
+            covered = np.abs(rgb - BACKGROUND).max(axis=1) > 8
+            hue = np.argmax(rgb[covered], axis=1)  # blue (bundle 0) or red (1 of 0..2: green)
+            self.assertGreater(np.mean(hue == 2), 0.2)  # AF_L, bundle 0: the table's blue end
+            self.assertGreater(np.mean(hue == 1), 0.2)  # CST_R, bundle 1: its green middle
+            self.assertLess(np.mean(hue == 0), 0.05)    # no red: bundle 2 is not shown
+        self.assertIn("2000 points streamed in 5 pieces", result.stdout)  # 100 streamlines of 20
         result, _ = self.render("trx_height", trx, "--color", "height")
         self.assertIn("coloured by height (per point", result.stdout)
-        bad = self.run_view(trx, "--group", "nope", "--output", output, expect_ok=False)
-        self.assertEqual(bad.returncode, 2)
-        self.assertIn("no group 'nope' (its groups: AF_L, CC_ForcepsMajor, CST_R)", bad.stderr)
-        bad = self.run_view(trx, "--color", "nope", "--output", output, expect_ok=False)
-        self.assertIn("no array 'nope' to colour by (its arrays: bundle, group:AF_L", bad.stderr)
+        streamed, _ = self.render("trx_height_streamed", trx, "--color", "height", "--pieces", "4")
+        colouring = result.stdout.split("coloured by height")[1].split(")")[0]
+        self.assertIn("coloured by height" + colouring + ")", streamed.stdout)
+        for pieces in ("1", "3"):
+            bad = self.run_view(trx, "--group", "nope", "--pieces", pieces, "--output", output,
+                                expect_ok=False)
+            self.assertEqual(bad.returncode, 2)
+            self.assertIn("no group 'nope' (its groups: AF_L, CC_ForcepsMajor, CST_R)", bad.stderr)
+            bad = self.run_view(trx, "--color", "nope", "--pieces", pieces, "--output", output,
+                                expect_ok=False)
+            self.assertIn("no array 'nope' to colour by (its arrays: bundle, group:AF_L",
+                          bad.stderr)
+        bad = self.run_view(trx, "--pieces", "-2", "--output", output, expect_ok=False)
+        self.assertIn("--pieces must be 1 or more", bad.stderr)
         bad = self.run_view(os.path.join(NIBABEL_DATA, "standard.trk"), "--group", "x",
                             "--output", output, expect_ok=False)
         self.assertIn("--group selects TRX groups; this is not a .trx", bad.stderr)

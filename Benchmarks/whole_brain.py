@@ -14,7 +14,9 @@ Each measurement runs in a child process of its own, so that VmHWM (/proc/self/s
 run's peak: vtkSightlineTRXReader's Update (time, RSS after), then vtkSightlineTubeMapper (radius
 0.3 mm) drawn by vtkSightlineImageRenderer (no OpenGL) at 1920x1080 from the left: the first
 image (geometry + BVH + frame) and a second still frame, opaque or at opacity 0.4, with the
-automatic link layout and with LINKS_COMBINED_ON_THE_FLY (up to 3e7 links); the mapper's
+automatic link layout and with LINKS_COMBINED_ON_THE_FLY (up to 3e7 links; translucent up to
+3e7 links), and streamed: the mapper pulling the file in pieces of 5e6 links into chunked
+tubes (StreamedPieces; the read is then part of the first image, opaque only); the mapper's
 GetGeometryMemoryBytes/GetBVHMemoryBytes; peak RSS. nibabel's nib.streamlines.load of the .tck
 in a child of its own (while the .tck is under a third of the RAM). Timings are the machine's.
 
@@ -41,6 +43,8 @@ SEMI_AXES = np.array([70.0, 85.0, 60.0], dtype=np.float32)
 BATCH = 100000         # streamlines stepped together
 MAX_STEPS = 200        # 200 mm at 1 mm steps
 COMBINED_MAX_LINKS = 3e7
+TRANSLUCENT_MAX_LINKS = 3e7  # 10^7 chunked translucent frames take ~100 s already
+STREAM_PIECE_LINKS = 5e6
 RADIUS = 0.3
 SIZE = (1920, 1080)
 
@@ -179,23 +183,33 @@ def write(links, trx_path, tck_path):
     return len(counts)
 
 
-def child_render(trx, layout, opacity, image):
+def child_render(trx, layout, opacity, image, pieces=1):
+    """One run; with pieces > 1 the mapper streams the file (no whole read: its time is part of
+    the first image's, and the poly data is never whole)."""
     import vtk
     import sightline
     base = memory()
     reader = sightline.vtkSightlineTRXReader()
     reader.SetFileName(trx)
-    started = time.perf_counter()
-    reader.Update()
-    result = {"read_s": time.perf_counter() - started, "base": base, "read": memory()}
-    poly = reader.GetOutput()
-    result["points"], result["streamlines"] = poly.GetNumberOfPoints(), poly.GetNumberOfLines()
-    result["links"] = result["points"] - result["streamlines"]
-    result["polydata_bytes"] = poly.GetActualMemorySize() * 1024.0
+    result = {"base": base}
+    if pieces == 1:
+        started = time.perf_counter()
+        reader.Update()
+        result.update(read_s=time.perf_counter() - started, read=memory())
+        poly = reader.GetOutput()
+        result["points"], result["streamlines"] = poly.GetNumberOfPoints(), poly.GetNumberOfLines()
+        result["links"] = result["points"] - result["streamlines"]
+        result["polydata_bytes"] = poly.GetActualMemorySize() * 1024.0
+    else:
+        with zipfile.ZipFile(trx) as archive:
+            header = json.loads(archive.read("header.json"))
+        result["points"], result["streamlines"] = header["NB_VERTICES"], header["NB_STREAMLINES"]
+        result["links"] = result["points"] - result["streamlines"]
     mapper = sightline.vtkSightlineTubeMapper()
     mapper.SetInputConnection(reader.GetOutputPort())
     mapper.SetRadius(RADIUS)
     mapper.SetLinkLayout(layout)
+    mapper.SetStreamedPieces(pieces)
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     actor.GetProperty().SetColor(0.95, 0.85, 0.7)
@@ -270,6 +284,7 @@ def main():
 
     import sightline
     automatic = sightline.vtkSightlineTubeMapper.LINKS_AUTOMATIC
+    chunked = sightline.vtkSightlineTubeMapper.LINKS_CHUNKED
     combined = sightline.vtkSightlineTubeMapper.LINKS_COMBINED_ON_THE_FLY
     os.makedirs(args.data, exist_ok=True)
     os.makedirs(os.path.dirname(os.path.abspath(args.image)), exist_ok=True)
@@ -287,22 +302,30 @@ def main():
             started = time.perf_counter()
             write(links, name + ".trx", name + ".tck" if want_tck else None)
             print(f"  written in {time.perf_counter() - started:.1f} s")
-        layouts = [("automatic", automatic)] + ([("combined", combined)] if links <= COMBINED_MAX_LINKS else [])
-        for layout_name, layout in layouts:
+        # Streamed: one piece per STREAM_PIECE_LINKS links (opaque only: its frames are the
+        # chunked layout's, which the automatic rows time).
+        pieces = max(2, int(np.ceil(links / STREAM_PIECE_LINKS)))
+        layouts = [("automatic", automatic, 1), ("streamed", chunked, pieces)] + \
+            ([("combined", combined, 1)] if links <= COMBINED_MAX_LINKS else [])
+        for layout_name, layout, layout_pieces in layouts:
             for opacity in (1.0, 0.4):
+                if opacity < 1.0 and (layout_pieces > 1 or links > TRANSLUCENT_MAX_LINKS):
+                    continue
                 image = os.path.abspath(args.image) if (links == int(image_links) and layout == automatic
                                                         and opacity == 1.0) else ""
                 print(f"  {links:.0e} links, {layout_name}, opacity {opacity}: ...", end="", flush=True)
                 load_before = load()
-                r = run_child("render", name + ".trx", layout, opacity, image)
+                r = run_child("render", name + ".trx", layout, opacity, image, layout_pieces)
                 if r is None:
                     continue
                 n = r["links"]
                 row = {"links": n, "streamlines": r["streamlines"], "points": r["points"],
                        "file_mb": os.path.getsize(name + ".trx") / 1e6, "layout": layout_name,
-                       "built_layout": r["layout"], "opacity": opacity,
-                       "read_s": r["read_s"], "rss_after_read_mb": r["read"][0],
-                       "rss_base_mb": r["base"][0], "polydata_b_per_link": r["polydata_bytes"] / n,
+                       "built_layout": r["layout"], "opacity": opacity, "pieces": layout_pieces,
+                       "read_s": r.get("read_s", float("nan")),
+                       "rss_after_read_mb": r.get("read", [float("nan")])[0],
+                       "rss_base_mb": r["base"][0],
+                       "polydata_b_per_link": r.get("polydata_bytes", float("nan")) / n,
                        "first_image_s": r["first_s"], "still_frame_s": r["still_s"],
                        "geometry_b_per_link": r["geometry"] / n, "bvh_b_per_link": r["bvh"] / n,
                        "rss_after_frames_mb": r["second"][0],
@@ -310,7 +333,7 @@ def main():
                        "peak_b_per_link": r["second"][1] * MIB / n,
                        "load_before": load_before, "load_after": load()}
                 rows.append(row)
-                print(f" read {r['read_s']:.2f} s, first {r['first_s']:.2f} s, still {r['still_s']:.2f} s,"
+                print(f" read {row['read_s']:.2f} s, first {r['first_s']:.2f} s, still {r['still_s']:.2f} s,"
                       f" peak {row['peak_rss_gb']:.2f} GB (load {load_before:.1f}-{row['load_after']:.1f})")
         if want_tck:
             print(f"  {links:.0e} links, nibabel .tck load: ...", end="", flush=True)

@@ -132,6 +132,12 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   {
     return this->BuildStreamedGeometry();
   }
+  if (this->StreamedPieces > 1 && this->GetNumberOfInputConnections(0) > 0)
+  {
+    vtkWarningMacro(<< "StreamedPieces (" << this->StreamedPieces << ") pulls pieces from a "
+                    << "pipeline (a reader's output port); the input was given as data, which is "
+                    << "whole already: drawn whole.");
+  }
   // Called only with points to draw (an empty input draws nothing, quietly).
   vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetDrawnInput());
   const vtkIdType count = input && input->GetPoints() ? input->GetNumberOfPoints() : 0;
@@ -295,7 +301,10 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 //------------------------------------------------------------------------------
 bool vtkSightlineTubeMapper::PullsInputPieces()
 {
-  return this->StreamedPieces > 1 && this->GetNumberOfInputConnections(0) > 0;
+  // Data given as such (SetInputData: a vtkTrivialProducer) is whole already, and such a
+  // producer hands every piece request the whole of it: it is drawn whole.
+  return this->StreamedPieces > 1 && this->GetNumberOfInputConnections(0) > 0 &&
+    !this->GetInputAlgorithm(0, 0)->IsA("vtkTrivialProducer");
 }
 
 //------------------------------------------------------------------------------

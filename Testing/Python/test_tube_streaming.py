@@ -195,6 +195,27 @@ class TubeStreaming(unittest.TestCase):
                 self.assertIn("StreamedPieces", errors[0])
                 self.assertEqual(image[:, :3].max(), 0)
 
+    def test_input_given_as_data_is_drawn_whole(self):
+        """SetInputData's trivial producer would hand every piece the whole data (drawn N
+        times, then released under its owner): it is drawn whole, with a warning."""
+        reader = reader_for(self.files["trk"])
+        reader.Update()
+        data = vtk.vtkPolyData()
+        data.DeepCopy(reader.GetOutput())
+        whole = tube_mapper(reader, 1)
+        reference, _ = render(whole, self.camera)
+        mapper = tube_mapper(reader, 3)
+        mapper.SetInputDataObject(data)
+        warnings = []
+        mapper.AddObserver(vtkCommand.WarningEvent, calldata_type(VTK_STRING)(
+            lambda caller, event, message: warnings.append(message)))
+        image, _ = render(mapper, self.camera)
+        self.assertEqual(mapper.GetNumberOfLinks(), whole.GetNumberOfLinks())
+        self.assertEqual(data.GetNumberOfPoints(), reader.GetOutput().GetNumberOfPoints())
+        self.assertTrue(np.array_equal(image, reference))
+        self.assertEqual(len(warnings), 1)
+        self.assertIn("given as data", warnings[0])
+
     def test_picks_name_the_whole_inputs_cells_and_points(self):
         """Hardware selection (a window: the suite runs under Xvfb) at tube pixels names the
         same cell and point streamed as whole."""

@@ -214,16 +214,15 @@ def tube_reader(path, track_scalars=None):
 
 
 def automatic_pieces(path):
-    """Pieces to stream a tractogram in: one per 256 MiB of file from 512 MiB on (about 2 * 10^7
-    float32 or 4 * 10^7 float16 points a piece), else 1: the whole file's poly data (about 20
-    bytes a point) then stays below the tubes' own memory."""
+    """Pieces to stream a tractogram in: one per 64 MiB of file from 512 MiB on (about 5 * 10^6
+    float32 or 10^7 float16 points a piece: a piece's poly data and direction colours then take
+    about 1 GB while it is turned into tubes), else 1 (the file read whole)."""
     if os.path.isdir(path):
         size = sum(os.path.getsize(os.path.join(root, name))
                    for root, _, names in os.walk(path) for name in names)
     else:
         size = os.path.getsize(path)
-    piece = 256 * 2 ** 20
-    return 1 if size < 2 * piece else math.ceil(size / piece)
+    return 1 if size < 512 * 2 ** 20 else math.ceil(size / (64 * 2 ** 20))
 
 
 try:
@@ -440,6 +439,7 @@ class TubeLayer(Layer):
         """The tractogram pulled by the tube mapper in `pieces`, each released once its tubes
         are built: the whole poly data never exists (vtkSightlineTubeMapper::StreamedPieces)."""
         reader, what = tube_reader(path, args.tsf)
+        reader.RemoveObservers(vtk.vtkCommand.ProgressEvent)  # the mapper's progress counts pieces
         reader.ReleaseDataFlagOn()  # each piece goes once the filter below has used it
         # Piece 0 first: it names what a bad file or option is before the long work.
         first = vtk.vtkPolyData()
@@ -1201,7 +1201,7 @@ def parse_arguments(argv):
     other.add_argument("--pieces", type=int, default=0, metavar="N",
                        help="stream a tractogram in N pieces, never holding its poly data whole "
                             "(chunked tubes; default: 1 below 512 MiB of file, else one piece "
-                            "per 256 MiB)")
+                            "per 64 MiB)")
     other.add_argument("--grid", choices=("spherical", "cylindrical"), default="spherical",
                        help=".vtr coordinates: (r, theta, phi) or (rho, phi, z)")
     other.add_argument("--angles", choices=("auto", "radians", "degrees"), default="auto",

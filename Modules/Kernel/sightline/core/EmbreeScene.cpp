@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "sightline/core/EmbreeScene.h"
 
+#include <algorithm>
 #include <chrono>
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -109,6 +110,10 @@ unsigned EmbreeScene::add(std::shared_ptr<const Geometry> geometry)
 
 void EmbreeScene::commit()
 {
+  const bool compact = std::any_of(Geometries.begin(), Geometries.end(),
+    [](const std::shared_ptr<const Geometry>& g) { return g->prefersCompactBvh(); });
+  if (compact)
+    rtcSetSceneFlags(Scene, RTC_SCENE_FLAG_COMPACT);
   const std::int64_t before = Device->allocatedBytes();
   const auto start = std::chrono::steady_clock::now();
   rtcCommitScene(Scene);

@@ -83,6 +83,10 @@ public:
   virtual std::size_t selectionCount() const { return size(); }
   /// Bytes the geometry itself holds (the BVH is counted by the scene).
   virtual std::size_t memoryBytes() const = 0;
+  /// Whether a scene holding this geometry should build Embree's compact BVH: for sets whose
+  /// BVH is a large share of their bytes (chunked tubes: 9.3 instead of 10.4 B/link, and still
+  /// frames no slower, 0.88-0.91 s against 0.93-1.04 at 10^6 links). Default false.
+  virtual bool prefersCompactBvh() const { return false; }
   /// Bounds of all primitives (empty box when there are none).
   virtual Box3 bounds() const = 0;
 

@@ -84,6 +84,7 @@ public:
   bool hasPrimitiveColors() const override { return !Colors.empty(); }
   vec3 primitiveColor(unsigned primitive) const override;
   std::size_t memoryBytes() const override;
+  bool prefersCompactBvh() const override { return Chunked; }
   Box3 bounds() const override { return AllBounds; }
   void insideIntervals(unsigned primitive, const DoubleRay& ray, std::vector<InsideInterval>& out) const override;
   vec3 partNormal(std::uint32_t part, const dvec3& point) const override;

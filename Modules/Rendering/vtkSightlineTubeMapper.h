@@ -43,7 +43,7 @@
  * Benchmarks/README.md and Documentation/tubes.md). The default, LINKS_AUTOMATIC, takes
  * combined links with stumps computed on the fly (20 bytes per link plus ~94 of BVH; the
  * fastest or within 5 % of it) below AutomaticChunkedLinks control points, and chunked links
- * (13.5 bytes per link with one radius per tube, 17.5 with varying radii, plus ~11 of BVH;
+ * (13.5 bytes per link with one radius per tube, 17.5 with varying radii, plus ~9 of Embree's compact BVH;
  * frames about 1.8 times slower) from there on, where memory is what limits.
  *
  * Streaming (StreamedPieces > 1): for tractograms whose poly data would not fit beside their

@@ -181,6 +181,19 @@ std::vector<std::uint32_t> CellColors(vtkMapper* mapper, vtkDataSet* input)
 }
 
 //------------------------------------------------------------------------------
+PointOrCellColors ColorsByPointOrCell(vtkMapper* mapper, vtkDataSet* input)
+{
+  PointOrCellColors colors;
+  bool cellScalars = false;
+  colors.points = PointColors(mapper, input, &cellScalars);
+  if (cellScalars)
+  {
+    colors.cells = CellColors(mapper, input);
+  }
+  return colors;
+}
+
+//------------------------------------------------------------------------------
 std::vector<std::uint32_t> PointColors(vtkMapper* mapper, vtkDataSet* input, bool* cellScalars)
 {
   std::vector<std::uint32_t> colors;

@@ -61,6 +61,15 @@ std::vector<std::uint32_t> PointColors(
 /// off or the mapped scalars are not cell data (e.g. a tractogram's per-streamline values).
 std::vector<std::uint32_t> CellColors(vtkMapper* mapper, vtkDataSet* input);
 
+/// The mapper's colours for the input's points, or for its cells when the mapped scalars are
+/// cell data (at most one of the two filled): what a primitive drawn per point or per cell takes.
+struct PointOrCellColors
+{
+  std::vector<std::uint32_t> points, cells;
+  bool empty() const { return points.empty() && cells.empty(); }
+};
+PointOrCellColors ColorsByPointOrCell(vtkMapper* mapper, vtkDataSet* input);
+
 /// Each reason of a kernel geometry's report as a warning of `reporter` (observers of its
 /// WarningEvent see them as they see the reporter's own warnings).
 void WarnAboutReport(vtkObject* reporter, const sightline::ValidationReport& report);

@@ -154,12 +154,9 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 
   // Colours per point, or per polyline (a tractogram's per-streamline values: each streamline's
   // tubes take its colour).
-  bool cellScalars = false;
-  const std::vector<std::uint32_t> pointColors =
-    SightlineKernelConversions::PointColors(this, input, &cellScalars);
-  const std::vector<std::uint32_t> cellColors = cellScalars
-    ? SightlineKernelConversions::CellColors(this, input)
-    : std::vector<std::uint32_t>();
+  const auto inputColors = SightlineKernelConversions::ColorsByPointOrCell(this, input);
+  const std::vector<std::uint32_t>& pointColors = inputColors.points;
+  const std::vector<std::uint32_t>& cellColors = inputColors.cells;
 
   // Control points and their predecessors: the input's points with the predecessor array, or a
   // copy of each polyline's points (a point may be interior to several polylines).
@@ -377,12 +374,9 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
         {
           return nullptr;
         }
-        bool cellScalars = false;
-        const std::vector<std::uint32_t> pointColors =
-          SightlineKernelConversions::PointColors(this, input, &cellScalars);
-        const std::vector<std::uint32_t> cellColors = cellScalars
-          ? SightlineKernelConversions::CellColors(this, input)
-          : std::vector<std::uint32_t>();
+        const auto pieceColors = SightlineKernelConversions::ColorsByPointOrCell(this, input);
+        const std::vector<std::uint32_t>& pointColors = pieceColors.points;
+        const std::vector<std::uint32_t>& cellColors = pieceColors.cells;
         // Points relative to the first piece's centre: a tractogram's pieces share its extent.
         std::vector<sightline::dvec3> world(static_cast<std::size_t>(count));
         for (vtkIdType i = 0; i < count; ++i)
@@ -392,7 +386,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
         if (!builder)
         {
           origin = SightlineKernelConversions::ToLocalFrame(world, local);
-          colored = !pointColors.empty() || !cellColors.empty();
+          colored = !pieceColors.empty();
           builder = std::make_unique<sightline::TubeRunBuilder>(
             origin, sightline::TubeLayout::kDefaultChunkSize, colored);
           // Pieces of one reader hold about as many points each.
@@ -407,7 +401,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
           }
         }
         std::vector<sightline::dvec3>().swap(world);
-        if (colored != (!pointColors.empty() || !cellColors.empty()))
+        if (colored != !pieceColors.empty())
         {
           vtkErrorMacro(<< "Piece " << piece << " is " << (colored ? "not " : "")
                         << "coloured by scalars where the first piece was" << (colored ? "" : " not")

@@ -487,17 +487,23 @@ void vtkSightlineTubeMapper::ComputeSelectionIds(
   std::vector<vtkIdType>& pointIds, std::vector<vtkIdType>& cellIds)
 {
   auto* tubes = dynamic_cast<sightline::TubeSet*>(this->GetGeometry());
+  // Selection index p (a primitive, or with chunks the link hit: Geometry::selectionIndex) as
+  // the control points (in the order BuildGeometry gave them) of its link's end and start.
+  auto linkOf = [tubes](std::size_t p, std::size_t& own, std::size_t& start)
+  {
+    const std::uint32_t node = tubes->nodeOfSelection(static_cast<std::uint32_t>(p));
+    const std::int32_t predecessor = tubes->predecessorOf(node);
+    own = tubes->sourceIndexOf(node);
+    start = predecessor >= 0 ? tubes->sourceIndexOf(static_cast<std::uint32_t>(predecessor)) : own;
+  };
+  std::size_t own = 0, start = 0;
   if (tubes && !this->Streamed.FirstControlPoint.empty())
   {
     // Streamed: the input is gone; each tube knows its polyline and its first point's id.
     const auto& starts = this->Streamed.FirstControlPoint;
     for (std::size_t p = 0; p < pointIds.size(); ++p)
     {
-      const std::uint32_t node = tubes->nodeOfSelection(static_cast<std::uint32_t>(p));
-      const std::int32_t predecessor = tubes->predecessorOf(node);
-      const std::size_t own = tubes->sourceIndexOf(node);
-      const std::size_t start =
-        predecessor >= 0 ? tubes->sourceIndexOf(static_cast<std::uint32_t>(predecessor)) : own;
+      linkOf(p, own, start);
       const std::size_t run =
         static_cast<std::size_t>(std::upper_bound(starts.begin(), starts.end(), own) - starts.begin()) - 1;
       cellIds[p] = this->Streamed.Cell[run];
@@ -543,12 +549,7 @@ void vtkSightlineTubeMapper::ComputeSelectionIds(
   }
   for (std::size_t p = 0; p < pointIds.size(); ++p)
   {
-    // p is a primitive, or with chunks the link hit (Geometry::selectionIndex).
-    const std::uint32_t node = tubes->nodeOfSelection(static_cast<std::uint32_t>(p));
-    const std::int32_t predecessor = tubes->predecessorOf(node);
-    const std::size_t own = tubes->sourceIndexOf(node);
-    const std::size_t start =
-      predecessor >= 0 ? tubes->sourceIndexOf(static_cast<std::uint32_t>(predecessor)) : own;
+    linkOf(p, own, start);
     if (own < controlPoint.size() && start < controlPoint.size())
     {
       pointIds[p] = controlPoint[start];

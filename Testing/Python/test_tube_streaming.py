@@ -171,6 +171,15 @@ class TubeStreaming(unittest.TestCase):
         render(mapper, self.camera)
         links = mapper.GetNumberOfLinks()
         self.assertGreater(links, 0)
+        # Another frame of the unchanged pipeline reads nothing again (its pieces are released,
+        # which must not look like a change).
+        executions = []
+        reader.AddObserver(vtkCommand.EndEvent, lambda caller, event: executions.append(1))
+        render(mapper, self.camera)
+        self.assertEqual(executions, [])
+        reader.Modified()
+        render(mapper, self.camera)
+        self.assertEqual(len(executions), 3)  # a piece each
         reader.SetFileName(os.path.join(self.folder.name, "sub_1", "AF_L.trk"))
         render(mapper, self.camera)
         self.assertGreater(mapper.GetNumberOfLinks(), 0)

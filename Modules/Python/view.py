@@ -310,6 +310,15 @@ def color_by_array(mapper, data, name, path, whole=None, value_range=None):
            f"{low:.3g} to {high:.3g})"
 
 
+def colour_array_name(args):
+    """The array tubes are coloured by: --color's, else a --tsf file's (the reader names its
+    point array after the file, less .tsf), else None."""
+    if args.color or not args.tsf:
+        return args.color
+    name = os.path.basename(args.tsf)
+    return name[:-4] if name.endswith(".tsf") else name
+
+
 def array_range(data, name):
     """The range of the point or cell array `name` of `data` (of its magnitude for vectors)."""
     array = data.GetPointData().GetArray(name) or data.GetCellData().GetArray(name)
@@ -420,9 +429,7 @@ class TubeLayer(Layer):
             self.radius_text = f"radius {radius:.3g}"
             self.count_text = (f"{data.GetNumberOfLines()} streamlines, "
                                f"{data.GetNumberOfPoints()} points")
-            color_array = args.color or (
-                os.path.basename(args.tsf)[:-4] if args.tsf and args.tsf.endswith(".tsf")
-                else args.tsf and os.path.basename(args.tsf))
+            color_array = colour_array_name(args)
             if color_array:
                 self.count_text += ", " + color_by_array(mapper, data, color_array, path, whole)
             color = None
@@ -450,7 +457,7 @@ class TubeLayer(Layer):
             if lower_extension(path) != ".trx":
                 raise ViewError(f"{path}: --group selects TRX groups; this is not a .trx")
             select_groups(first, args.group, path, piece=True)  # names an unknown group
-        color_array = args.color or (os.path.basename(args.tsf)[:-4] if args.tsf else None)
+        color_array = colour_array_name(args)
         mapper = sightline.vtkSightlineTubeMapper()
         mapper.SetColorModeToDirectScalars()
         radius = args.radius or 0.5  # streamed files are whole brains, in mm

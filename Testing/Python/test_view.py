@@ -165,6 +165,11 @@ class View(unittest.TestCase):
         low_z, high_z = points[:, 2].min(), points[:, 2].max()
         self.assertIn(f"coloured by height (per point, {low_z:.3g} to {high_z:.3g})",
                       result.stdout)
+        # Streamed in pieces, each piece's tracks take their own values; the range is the file's.
+        result, _ = self.render("tck_tsf_streamed", tck, "--tsf", tsf, "--pieces", "3")
+        self.assertIn(f"coloured by height (per point, {low_z:.3g} to {high_z:.3g})",
+                      result.stdout)
+        self.assertIn(f"{len(points)} points streamed in 3 pieces", result.stdout)
         bad = self.run_view(os.path.join(NIBABEL_DATA, "standard.trk"), "--tsf", tsf,
                             "--output", os.path.join(self.folder, "x.png"), expect_ok=False)
         self.assertIn("--tsf gives a .tck's track scalars", bad.stderr)

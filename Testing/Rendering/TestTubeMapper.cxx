@@ -11,7 +11,13 @@
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPolyDataAlgorithm.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSightlineSWCReader.h"
@@ -22,6 +28,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -80,6 +87,134 @@ vtkSmartPointer<vtkPolyData> Polyline(const std::vector<std::array<double, 3>>& 
   return poly;
 }
 } // namespace
+
+namespace
+{
+// Helical streamlines of varying length, made piece by piece as the readers answer piece
+// requests (a run of streamlines per piece, numbered in turn), with a per-point "height" array;
+// counts its executions.
+class HelixStreamlines : public vtkPolyDataAlgorithm
+{
+public:
+  static HelixStreamlines* New();
+  vtkTypeMacro(HelixStreamlines, vtkPolyDataAlgorithm);
+  int Streamlines = 40;
+  int Executions = 0;
+
+protected:
+  HelixStreamlines() { this->SetNumberOfInputPorts(0); }
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  {
+    out->GetInformationObject(0)->Set(CAN_HANDLE_PIECE_REQUEST(), 1);
+    return 1;
+  }
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  {
+    ++this->Executions;
+    vtkInformation* info = out->GetInformationObject(0);
+    const int piece = info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER());
+    const int pieces = info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES());
+    const int first = static_cast<int>(static_cast<long long>(this->Streamlines) * piece / pieces);
+    const int end = static_cast<int>(static_cast<long long>(this->Streamlines) * (piece + 1) / pieces);
+    vtkNew<vtkPoints> points;
+    vtkNew<vtkCellArray> lines;
+    vtkNew<vtkFloatArray> height;
+    height->SetName("height");
+    for (int s = first; s < end; ++s)
+    {
+      const int count = 2 + (s * 7) % 23;
+      lines->InsertNextCell(count);
+      for (int k = 0; k < count; ++k)
+      {
+        const double t = 0.3 * k + 0.5 * s;
+        const double p[3] = { 100.0 + std::cos(t) * (1 + 0.05 * s), 0.2 * k - 2.0 + 0.02 * s,
+          -40.0 + std::sin(t) * (1 + 0.05 * s) };
+        lines->InsertCellPoint(points->InsertNextPoint(p));
+        height->InsertNextValue(static_cast<float>(p[2]));
+      }
+    }
+    auto* output = vtkPolyData::GetData(info);
+    output->SetPoints(points);
+    output->SetLines(lines);
+    output->GetPointData()->AddArray(height);
+    return 1;
+  }
+};
+vtkStandardNewMacro(HelixStreamlines);
+
+bool TraceHelices(vtkSightlineTubeMapper* mapper, HelixStreamlines* source, int pieces,
+  sightline::Framebuffer& frame)
+{
+  mapper->SetInputConnection(source->GetOutputPort());
+  mapper->SetStreamedPieces(pieces);
+  mapper->SetRadius(0.08);
+  mapper->SetLinkLayout(vtkSightlineTubeMapper::LINKS_CHUNKED);
+  mapper->SetScalarModeToUsePointFieldData();
+  mapper->SelectColorArray("height");
+  mapper->SetScalarRange(-41.5, -38.5);
+  mapper->ScalarVisibilityOn();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkCamera> camera;
+  camera->SetFocalPoint(100, 0, -40);
+  camera->SetPosition(100 + 3, -14, -40 + 2);
+  camera->SetViewUp(0, 0, 1);
+  camera->SetViewAngle(40);
+  return mapper->RayTrace(actor, camera, nullptr, 200, 150, frame);
+}
+} // namespace
+
+// StreamedPieces: the mapper pulls pieces from its input's producer one after the other into
+// chunked tubes; the image equals the whole input's (the same tubes up to float rounding of
+// positions relative to another origin), each piece is read once, and an unchanged pipeline
+// is not read again. Runs under the sanitizers with the rendering label.
+TEST(TubeMapper, StreamedPiecesDrawTheWholeInput)
+{
+  vtkNew<HelixStreamlines> wholeSource;
+  vtkNew<vtkSightlineTubeMapper> wholeMapper;
+  sightline::Framebuffer whole;
+  ASSERT_TRUE(TraceHelices(wholeMapper, wholeSource, 1, whole));
+  EXPECT_EQ(wholeSource->Executions, 1);
+  for (int pieces : { 2, 5, 41 }) // 41: more pieces than streamlines, one empty
+  {
+    SCOPED_TRACE(pieces);
+    vtkNew<HelixStreamlines> source;
+    vtkNew<vtkSightlineTubeMapper> mapper;
+    vtkNew<MessageCollector> messages;
+    messages->Observe(mapper);
+    sightline::Framebuffer streamed;
+    ASSERT_TRUE(TraceHelices(mapper, source, pieces, streamed));
+    EXPECT_TRUE(messages->Errors.empty());
+    EXPECT_TRUE(messages->Warnings.empty());
+    EXPECT_EQ(source->Executions, pieces);
+    EXPECT_EQ(mapper->GetNumberOfLinks(), wholeMapper->GetNumberOfLinks());
+    EXPECT_EQ(mapper->GetBuiltLinkLayout(), vtkSightlineTubeMapper::LINKS_CHUNKED);
+    EXPECT_EQ(source->GetOutput()->GetNumberOfPoints(), 0); // the last piece was released
+    int covered = 0, differing = 0;
+    for (std::size_t i = 0; i < whole.pixelCount(); ++i)
+    {
+      const bool a = whole.Depth[i] < 1.0f, b = streamed.Depth[i] < 1.0f;
+      covered += a;
+      differing += a != b;
+      if (a && b)
+      {
+        EXPECT_NEAR(whole.Depth[i], streamed.Depth[i], 1e-5f) << "pixel " << i;
+        EXPECT_NEAR(glm::length(sightline::vec3(whole.Color[i]) - sightline::vec3(streamed.Color[i])), 0.0f, 2e-2f)
+          << "pixel " << i;
+      }
+    }
+    EXPECT_GT(covered, 2000);
+    EXPECT_LE(differing, covered / 500);
+    // Another frame of the unchanged pipeline reads nothing; a changed source is read again.
+    ASSERT_TRUE(TraceHelices(mapper, source, pieces, streamed));
+    EXPECT_EQ(source->Executions, pieces);
+    source->Streamlines = 20;
+    source->Modified();
+    ASSERT_TRUE(TraceHelices(mapper, source, pieces, streamed));
+    EXPECT_EQ(source->Executions, 2 * pieces);
+    EXPECT_LT(mapper->GetNumberOfLinks(), wholeMapper->GetNumberOfLinks());
+  }
+}
 
 TEST(TubeMapper, NeuronFromParentsAndFromPolylinesMatchesBaseline)
 {

@@ -378,13 +378,13 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
         const std::vector<std::uint32_t>& pointColors = pieceColors.points;
         const std::vector<std::uint32_t>& cellColors = pieceColors.cells;
         // Points relative to the first piece's centre: a tractogram's pieces share its extent.
-        std::vector<sightline::dvec3> world(static_cast<std::size_t>(count));
-        for (vtkIdType i = 0; i < count; ++i)
-        {
-          input->GetPoint(i, &world[i].x);
-        }
         if (!builder)
         {
+          std::vector<sightline::dvec3> world(static_cast<std::size_t>(count));
+          for (vtkIdType i = 0; i < count; ++i)
+          {
+            input->GetPoint(i, &world[i].x);
+          }
           origin = SightlineKernelConversions::ToLocalFrame(world, local);
           colored = !pieceColors.empty();
           builder = std::make_unique<sightline::TubeRunBuilder>(
@@ -394,13 +394,14 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
         }
         else
         {
-          local.resize(world.size());
-          for (std::size_t i = 0; i < world.size(); ++i)
+          local.resize(static_cast<std::size_t>(count));
+          sightline::dvec3 point;
+          for (vtkIdType i = 0; i < count; ++i)
           {
-            local[i] = sightline::vec3(world[i] - origin);
+            input->GetPoint(i, &point.x);
+            local[static_cast<std::size_t>(i)] = sightline::vec3(point - origin);
           }
         }
-        std::vector<sightline::dvec3>().swap(world);
         if (colored != !pieceColors.empty())
         {
           vtkErrorMacro(<< "Piece " << piece << " is " << (colored ? "not " : "")
@@ -472,11 +473,9 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
   }
   auto tubes = builder->finish();
   SightlineKernelConversions::WarnAboutReport(this, tubes->report());
-  for (auto* v : { &this->Streamed.Cell, &this->Streamed.FirstPoint })
-  {
-    v->shrink_to_fit();
-  }
   this->Streamed.FirstControlPoint.shrink_to_fit();
+  this->Streamed.Cell.shrink_to_fit();
+  this->Streamed.FirstPoint.shrink_to_fit();
   this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
   this->BuiltLinkLayout = LINKS_CHUNKED;
   return tubes;

@@ -6,6 +6,9 @@
 #include "vtkCamera.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkImageSlice.h"
+#include "vtkImageSliceMapper.h"
+#include "SightlineImageSliceTracer.h"
 #include "SightlineTracer.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -25,6 +28,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <memory>
 #include <cstring>
 #include <vector>
 
@@ -91,6 +95,35 @@ void vtkSightlineImageRenderer::RemoveAllVolumes()
   this->Modified();
 }
 
+void vtkSightlineImageRenderer::AddImageSlice(vtkImageSlice* slice)
+{
+  if (slice && !this->ImageSlices->IsItemPresent(slice))
+  {
+    this->ImageSlices->AddItem(slice);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveImageSlice(vtkImageSlice* slice)
+{
+  if (this->ImageSlices->IsItemPresent(slice))
+  {
+    this->ImageSlices->RemoveItem(slice);
+    this->Modified();
+  }
+}
+
+void vtkSightlineImageRenderer::RemoveAllImageSlices()
+{
+  this->ImageSlices->RemoveAllItems();
+  this->Modified();
+}
+
+vtkPropCollection* vtkSightlineImageRenderer::GetImageSlices()
+{
+  return this->ImageSlices;
+}
+
 vtkVolumeCollection* vtkSightlineImageRenderer::GetVolumes()
 {
   return this->Volumes;
@@ -150,6 +183,11 @@ void vtkSightlineImageRenderer::ResetCamera()
   {
     renderer->AddVolume(volume);
   }
+  this->ImageSlices->InitTraversal(it);
+  while (vtkProp* slice = this->ImageSlices->GetNextProp(it))
+  {
+    renderer->AddViewProp(slice);
+  }
   // vtkRenderer::ResetCamera uses the viewport's aspect; without a window it is 1, so apply
   // this image's aspect the way vtkRenderer does for wide images.
   renderer->ResetCamera();
@@ -199,6 +237,20 @@ vtkMTimeType vtkSightlineImageRenderer::GetMTime()
   {
     time = std::max(time, volume->GetMTime()); // includes its property and transfer functions
     if (vtkAbstractVolumeMapper* mapper = volume->GetMapper())
+    {
+      time = std::max(time, mapper->GetMTime());
+      if (mapper->GetNumberOfInputConnections(0) > 0)
+      {
+        time = std::max(time, mapper->GetInputAlgorithm()->GetMTime());
+      }
+    }
+  }
+  this->ImageSlices->InitTraversal(it);
+  while (vtkProp* prop = this->ImageSlices->GetNextProp(it))
+  {
+    auto* slice = vtkImageSlice::SafeDownCast(prop);
+    time = std::max(time, slice->GetMTime()); // includes its property and lookup table
+    if (vtkImageMapper3D* mapper = slice->GetMapper())
     {
       time = std::max(time, mapper->GetMTime());
       if (mapper->GetNumberOfInputConnections(0) > 0)
@@ -297,6 +349,27 @@ int vtkSightlineImageRenderer::RequestData(
   {
     collect(volume, volume->GetMapper());
   }
+  // Image slices are traced through an adapter of their own (their mapper is VTK's).
+  std::vector<std::unique_ptr<SightlineImageSliceTracer>> sliceTracers;
+  this->ImageSlices->InitTraversal(it);
+  while (vtkProp* prop = this->ImageSlices->GetNextProp(it))
+  {
+    auto* slice = vtkImageSlice::SafeDownCast(prop);
+    const char* why = nullptr;
+    if (!slice->GetVisibility())
+    {
+      continue;
+    }
+    if (!SightlineImageSliceTracer::CanTrace(slice, why))
+    {
+      vtkWarningMacro(<< "Skipping a " << slice->GetClassName() << " whose mapper is "
+                      << (slice->GetMapper() ? slice->GetMapper()->GetClassName() : "null")
+                      << "; " << why << ".");
+      continue;
+    }
+    sliceTracers.push_back(std::make_unique<SightlineImageSliceTracer>(slice, this->ActiveCamera));
+    props.push_back({ slice, sliceTracers.back().get(), sliceTracers.back()->GetPass(slice) });
+  }
   std::stable_sort(props.begin(), props.end(),
     [](const TracedProp& a, const TracedProp& b) { return a.Pass < b.Pass; });
 
@@ -366,5 +439,6 @@ void vtkSightlineImageRenderer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ActiveCamera: " << this->ActiveCamera << "\n";
   os << indent << "Actors: " << this->Actors->GetNumberOfItems() << "\n";
   os << indent << "Volumes: " << this->Volumes->GetNumberOfItems() << "\n";
+  os << indent << "ImageSlices: " << this->ImageSlices->GetNumberOfItems() << "\n";
   os << indent << "Lights: " << this->Lights->GetNumberOfItems() << "\n";
 }

@@ -4,8 +4,8 @@
  * @brief   Renders Sightline actors straight to an image, without OpenGL or a window.
  *
  * The GL-free path for batch and server use. Give it actors whose mappers are
- * vtkSightlineMapper subclasses (and volumes whose mapper is a
- * vtkSightlineSphericalVolumeMapper), a camera, an image size, a background and optionally lights
+ * vtkSightlineMapper subclasses (volumes whose mapper is a vtkSightlineSphericalVolumeMapper,
+ * and image slices drawn by a vtkImageSliceMapper: vtkImageSlice, vtkImageActor), a camera, an image size, a background and optionally lights
  * (VTK's automatic headlight otherwise); its output is a vtkImageData of Width x Height
  * points with
  * - "Colors": unsigned char RGBA (the active scalars), the actors composited over the
@@ -28,10 +28,13 @@
 #include "SightlineRenderingModule.h" // for export macro
 #include "vtkImageAlgorithm.h"
 #include "vtkNew.h" // for vtkNew
+#include "vtkPropCollection.h"   // for vtkNew<vtkPropCollection>
 #include "vtkVolumeCollection.h" // for vtkNew<vtkVolumeCollection>
 
 class vtkActor;
 class vtkActorCollection;
+class vtkImageSlice;
+class vtkPropCollection;
 class vtkVolume;
 class vtkCamera;
 class vtkLight;
@@ -65,6 +68,24 @@ public:
   void RemoveVolume(vtkVolume* volume);
   void RemoveAllVolumes();
   vtkVolumeCollection* GetVolumes();
+  ///@}
+
+  ///@{
+  /**
+   * Image slices (vtkImageSlice or vtkImageActor with a vtkImageSliceMapper, e.g. an
+   * anatomical underlay) drawn as OpenGL draws their textured quad: the displayed slice's
+   * voxels coloured by the vtkImageProperty (window/level or lookup table, opacity, nearest or
+   * linear interpolation; cubic is drawn as linear), placed by the prop's matrix and the
+   * image's origin, spacing and direction, with the mapper's Border, Cropping,
+   * SliceFacesCamera and SliceAtFocalPoint. Each slice is a plane traced exactly, so glyphs
+   * crossing it are cut by it as the depth test cuts them in a window. Only the displayed slice
+   * is requested from the slice's input (a streaming reader reads just that). Slices drawn by
+   * other mappers (vtkImageResliceMapper) are skipped with a warning.
+   */
+  void AddImageSlice(vtkImageSlice* slice);
+  void RemoveImageSlice(vtkImageSlice* slice);
+  void RemoveAllImageSlices();
+  vtkPropCollection* GetImageSlices();
   ///@}
 
   ///@{
@@ -103,7 +124,7 @@ public:
   ///@}
 
   /**
-   * Reset the camera so every actor is visible, as vtkRenderer::ResetCamera does (view
+   * Reset the camera so every actor, volume and image slice is visible, as vtkRenderer::ResetCamera does (view
    * direction and view-up kept). Creates a camera if none is set.
    */
   void ResetCamera();
@@ -122,6 +143,7 @@ protected:
   vtkCamera* ActiveCamera = nullptr;
   vtkNew<vtkActorCollection> Actors;
   vtkNew<vtkVolumeCollection> Volumes;
+  vtkNew<vtkPropCollection> ImageSlices;
   vtkNew<vtkLightCollection> Lights;
 
 private:

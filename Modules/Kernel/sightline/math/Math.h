@@ -15,6 +15,7 @@ namespace sightline
 using vec2 = glm::vec2;
 using vec3 = glm::vec3;
 using vec4 = glm::vec4;
+using dvec2 = glm::dvec2;
 using dvec3 = glm::dvec3;
 using dvec4 = glm::dvec4;
 using dmat3 = glm::dmat3;

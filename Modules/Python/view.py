@@ -18,7 +18,8 @@ image rendered without a window or OpenGL by vtkSightlineImageRenderer):
 An image's component count says what it holds: 6 is a diffusion tensor, 9/81/729 a full tensor,
 36 a Voigt matrix, 15, 28, 45, 66, ... an SH series (lmax 4, 6, 8, 10, ...). --basis makes any
 SH count an SH series, --layout any tensor count a tensor. A scalar NIfTI (FA, T1, b0) given
-with --underlay is drawn as a grey slice beneath the glyphs.
+with --underlay is drawn as a grey slice beneath the glyphs (in the window, and traced as an
+exact plane without one).
 
 Window keys: mouse rotates/pans/zooms (VTK's trackball camera); Up/Down or PageUp/PageDown move
 the glyph slice; a/c/s pick an axial/coronal/sagittal slice; h cycles shadows (off, hard,
@@ -1000,8 +1001,8 @@ def report(rgba, path):
 
 
 def render_to_file(scene, args):
-    """--output: the GL-free vtkSightlineImageRenderer; an underlay (an OpenGL image slice)
-    needs a VTK window, so with --underlay a .png comes from an offscreen window."""
+    """--output: the GL-free vtkSightlineImageRenderer (no window, no OpenGL, no X server); the
+    underlay is traced as an exact plane beneath the glyphs."""
     width, height = args.size
     extension = os.path.splitext(args.output)[1].lower()
     if extension not in (".png", ".exr"):
@@ -1010,41 +1011,21 @@ def render_to_file(scene, args):
     if not os.path.isdir(folder):
         raise ViewError(f"--output {args.output}: no folder {folder}")
     start = time.perf_counter()
-    use_window = scene.underlay is not None and extension == ".png"
-    if use_window and sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
-        print("note: no X display, so the underlay (an OpenGL image slice) is left out; run "
-              "under xvfb-run to draw it", file=sys.stderr)
-        use_window = False
-    if use_window:
-        window = vtk.vtkRenderWindow()
-        window.SetOffScreenRendering(1)
-        window.SetMultiSamples(0)
-        window.AddRenderer(scene.renderer)
-        window.SetSize(width, height)
-        window.Render()
-        grab = vtk.vtkWindowToImageFilter()
-        grab.SetInput(window)
-        grab.SetInputBufferTypeToRGB()  # VTK's alpha is 0 on the background: keep it opaque
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        image, how = grab.GetOutput(), "VTK window, offscreen (for the underlay)"
-    else:
-        if scene.underlay is not None and extension == ".exr":
-            print("note: the .exr comes from the GL-free renderer, which does not draw the "
-                  "underlay (an OpenGL image slice); write a .png to see it", file=sys.stderr)
-        batch = sightline.vtkSightlineImageRenderer()
-        for layer in scene.layers:
-            for actor in layer.actors:
-                batch.AddActor(actor)
-            for volume in layer.volumes:
-                batch.AddVolume(volume)
-        for light in scene.lights:
-            batch.AddLight(light)
-        batch.SetActiveCamera(scene.renderer.GetActiveCamera())
-        batch.SetSize(width, height)
-        batch.SetBackground(*BACKGROUND)
-        batch.Update()
-        image, how = batch.GetOutput(), "GL-free"
+    batch = sightline.vtkSightlineImageRenderer()
+    for layer in scene.layers:
+        for actor in layer.actors:
+            batch.AddActor(actor)
+        for volume in layer.volumes:
+            batch.AddVolume(volume)
+    if scene.underlay is not None:
+        batch.AddImageSlice(scene.underlay.actor)
+    for light in scene.lights:
+        batch.AddLight(light)
+    batch.SetActiveCamera(scene.renderer.GetActiveCamera())
+    batch.SetSize(width, height)
+    batch.SetBackground(*BACKGROUND)
+    batch.Update()
+    image, how = batch.GetOutput(), "GL-free"
     seconds = time.perf_counter() - start
     rgba, depth = image_arrays(image)
     if extension == ".png":

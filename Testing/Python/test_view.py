@@ -33,13 +33,17 @@ BACKGROUND = np.round(np.array([0.07, 0.075, 0.09]) * 255)
 SIZE = (320, 240)
 
 
-def covered_pixels(path):
+def read_png(path):
+    """(h, w, 3 or 4) uint8 pixels of a PNG, bottom row first as VTK reads them."""
     reader = vtk.vtkPNGReader()
     reader.SetFileName(path)
     reader.Update()
     width, height, _ = reader.GetOutput().GetDimensions()
-    rgb = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(height, width, -1)
-    return np.abs(rgb[..., :3].astype(float) - BACKGROUND).max(axis=-1) > 8
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(height, width, -1)
+
+
+def covered_pixels(path):
+    return np.abs(read_png(path)[..., :3].astype(float) - BACKGROUND).max(axis=-1) > 8
 
 
 def read_exr(path):
@@ -327,14 +331,24 @@ class View(unittest.TestCase):
             self.assertGreater(covered_pixels(shot).mean(), 0.01, shot)
         self.assertGreater((covered_pixels(shots[0]) != covered_pixels(shots[1])).mean(), 0.01,
                            "the coronal and axial screenshots are the same")
-        if SH_DATA:  # an underlay adds grey pixels beneath the glyphs
-            sh = os.path.join(SH_DATA, "small_64D_sh_descoteaux07.nii.gz")
-            fa = os.path.join(SH_DATA, "small_64D_fa.nii.gz")
-            _, plain = self.render("plain", sh)
-            result, under = self.render("underlay", sh, "--underlay", fa, display=True)
-            self.assertIn("VTK window", result.stdout)
-            self.assertGreater(under.mean(), plain.mean() + 0.1)
-            self.assertFalse(under[0].any() or under[-1].any(), "no background above and below")
+    @unittest.skipUnless(SH_DATA, "needs the SH test data (SHData fixture)")
+    def test_underlay_without_x(self):
+        """--underlay with --output runs with DISPLAY unset: the grey slice is traced beneath
+        the glyphs, fills the frame around them and is cut by nothing above it."""
+        sh = os.path.join(SH_DATA, "small_64D_sh_descoteaux07.nii.gz")
+        fa = os.path.join(SH_DATA, "small_64D_fa.nii.gz")
+        _, plain = self.render("plain", sh)
+        result, under = self.render("underlay", sh, "--underlay", fa)
+        self.assertIn("GL-free", result.stdout)
+        self.assertGreater(under.mean(), plain.mean() + 0.1)
+        self.assertFalse(under[0].any() or under[-1].any(), "no background above and below")
+        # The glyph pixels are the same with and without the slice beneath them: the plane lies
+        # below every glyph, so it hides none.
+        with_slice, without = read_png(os.path.join(self.folder, "underlay.png")), \
+            read_png(os.path.join(self.folder, "plain.png"))
+        glyph = covered_pixels(os.path.join(self.folder, "plain.png"))
+        same = (np.abs(with_slice.astype(int) - without.astype(int)).max(axis=-1) <= 2)[glyph]
+        self.assertGreater(same.mean(), 0.97)
 
     # -- bad input ------------------------------------------------------------------------------
     def expect_error(self, message, *arguments, output="x.png"):

@@ -45,6 +45,8 @@ EXAMPLES = """examples:
   sightline-view fod.mif.gz --underlay t1.nii.gz --slice coronal
   sightline-view func_coef.nii.gz --basis dipy --legacy --output odf.png --size 1200 900
   sightline-view dti.nii.gz --layout fsl --underlay fa.nii.gz
+  sightline-view fod.nii.gz --underlay t1.nii.gz --mosaic axial:8,coronal:8,sagittal:8 \\
+      --size 3200 1200 --output report.png      # no X server needed
   sightline-view earth.vtr --output earth.exr     # colour and depth (EXR channels R G B A Z)
 """
 
@@ -509,6 +511,32 @@ class TubeLayer(Layer):
         return points[::max(1, len(points) // 5000)]
 
 
+def glyph_actor(kind, detail, count, args, image, data_to_world, file_axes=None):
+    """(mapper, actor) drawing `image` as SH ('sh', basis) or tensor ('tensor', layout) glyphs
+    with the options' legacy basis, tensor shape, frame and scale (GlyphLayer.classify gives
+    kind and detail); data_to_world and file_axes are vtkMatrix4x4s."""
+    if kind == "sh":
+        mapper = sightline.vtkSightlineSHGlyphMapper()
+        basis, legacy = BASES[detail]
+        mapper.SetBasisByName(basis)
+        mapper.SetLegacyBasis(legacy if args.legacy is None else args.legacy)
+    else:
+        mapper = sightline.vtkSightlineTensorGlyphMapper()
+        getattr(mapper, "SetTensorLayoutTo" + LAYOUTS[detail][0])()
+        if count == 6 and args.tensor_shape == "ellipsoid":
+            mapper.SetShapeToEllipsoid()  # as vtkTensorGlyph, mrview and DIPY draw DTI
+    mapper.SetInputDataObject(image)
+    mapper.SetDataToWorldMatrix(data_to_world)
+    if args.frame == "voxel":
+        mapper.SetDirectionToWorldMatrix(file_axes)
+    mapper.SetScaleFactor(args.scale)
+    actor = vtk.vtkActor()
+    actor.SetMapper(mapper)
+    shade(actor.GetProperty(), ambient=0.15, specular=0.4)
+    actor.GetProperty().SetSpecularPower(40)
+    return mapper, actor
+
+
 class GlyphLayer(Layer):
     """SH or tensor glyphs of one slice of a NIfTI or MRtrix3 image."""
     glyphs = True
@@ -548,31 +576,13 @@ class GlyphLayer(Layer):
             image = self.permuted(image, LAYOUTS[self.detail][1])
         self.image = image
 
-        if self.kind == "sh":
-            mapper = sightline.vtkSightlineSHGlyphMapper()
-            basis, legacy = BASES[self.detail]
-            mapper.SetBasisByName(basis)
-            mapper.SetLegacyBasis(legacy if args.legacy is None else args.legacy)
-        else:
-            mapper = sightline.vtkSightlineTensorGlyphMapper()
-            getattr(mapper, "SetTensorLayoutTo" + LAYOUTS[self.detail][0])()
-            if count == 6 and args.tensor_shape == "ellipsoid":
-                mapper.SetShapeToEllipsoid()  # as vtkTensorGlyph, mrview and DIPY draw DTI
-        mapper.SetInputDataObject(image)
-        mapper.SetDataToWorldMatrix(self.data_to_world)
-        if args.frame == "voxel":
-            if self.file_axes is None:
-                raise ViewError(f"{path}: --frame voxel is for NIfTI files (.mif directions are "
-                                "in world axes)")
-            mapper.SetDirectionToWorldMatrix(self.file_axes)
-        mapper.SetScaleFactor(args.scale)
-        mapper.SetInteractiveSubsampling(2)
-        Progress(f"glyphs of {name}").watch(mapper)
-        self.mapper = mapper
-        actor = vtk.vtkActor()
-        actor.SetMapper(mapper)
-        shade(actor.GetProperty(), ambient=0.15, specular=0.4)
-        actor.GetProperty().SetSpecularPower(40)
+        if args.frame == "voxel" and self.file_axes is None:
+            raise ViewError(f"{path}: --frame voxel is for NIfTI files (.mif directions are "
+                            "in world axes)")
+        self.mapper, actor = glyph_actor(self.kind, self.detail, count, args, image,
+                                         self.data_to_world, self.file_axes)
+        self.mapper.SetInteractiveSubsampling(2)
+        Progress(f"glyphs of {name}").watch(self.mapper)
         self.actors = [actor]
         self.shadows = args.shadows
         self.set_shadows(args.shadows)
@@ -826,6 +836,22 @@ def load(path, args):
 
 
 # -- the scene -------------------------------------------------------------------------------
+def glyph_lights(centre, normal, up):
+    """[scene light, headlight] for a glyph slice (centre, unit normal, in-plane up): the
+    oblique scene light makes glyph shadows fall on neighbours; a user light turns VTK's own
+    headlight off, so a dimmer one is added back."""
+    direction = 0.35 * normal + 0.55 * up - 0.75 * np.cross(up, normal)
+    light = vtk.vtkLight()
+    light.SetLightTypeToSceneLight()
+    light.SetFocalPoint(*centre)
+    light.SetPosition(*(centre + 100.0 * direction / np.linalg.norm(direction)))
+    light.SetIntensity(0.75)
+    headlight = vtk.vtkLight()
+    headlight.SetLightTypeToHeadlight()
+    headlight.SetIntensity(0.5)
+    return [light, headlight]
+
+
 class Scene:
     def __init__(self, layers, args):
         self.layers, self.args = layers, args
@@ -849,20 +875,11 @@ class Scene:
             layer.set_slice(layer.orientation, layer.index)
         self.translucent = False
         self.light, self.lights = None, []
-        if self.glyphs:  # an oblique scene light, so that glyph shadows fall on neighbours
-            centre, normal, up = self.glyphs[0].slice_frame()
-            direction = 0.35 * normal + 0.55 * up - 0.75 * np.cross(up, normal)
-            self.light = vtk.vtkLight()
-            self.light.SetLightTypeToSceneLight()
-            self.light.SetFocalPoint(*centre)
-            self.light.SetPosition(*(centre + 100.0 * direction / np.linalg.norm(direction)))
-            self.light.SetIntensity(0.75)
-            self.renderer.AddLight(self.light)
-            headlight = vtk.vtkLight()  # a user light turns VTK's own headlight off
-            headlight.SetLightTypeToHeadlight()
-            headlight.SetIntensity(0.5)
-            self.renderer.AddLight(headlight)
-            self.lights = [self.light, headlight]
+        if self.glyphs:
+            self.lights = glyph_lights(*self.glyphs[0].slice_frame())
+            self.light = self.lights[0]
+            for light in self.lights:
+                self.renderer.AddLight(light)
         self.reset_camera()
 
     def reset_camera(self):
@@ -1172,6 +1189,11 @@ def parse_arguments(argv):
     glyphs.add_argument("--shadows", choices=SHADOWS, default="soft")
     glyphs.add_argument("--underlay", metavar="NIFTI",
                         help="scalar NIfTI (FA, T1, b0) drawn as a grey slice beneath the glyphs")
+    glyphs.add_argument("--mosaic", metavar="ROWS",
+                        help="a report figure instead of one view: rows of evenly spaced "
+                             "slices framed on the brain, labelled, e.g. "
+                             "axial:8,coronal:8,sagittal:8 (needs --output FILE.png; no X, "
+                             "bounded memory: only the drawn slices are read)")
     glyphs.add_argument("--elevation", type=float, default=50.0,
                         help="camera elevation above the slice plane in degrees (default 50)")
     other = parser.add_argument_group("tubes and volumes")
@@ -1211,9 +1233,31 @@ def parse_arguments(argv):
     return args
 
 
+def run_mosaic(args):
+    """--mosaic: sightline.figures.mosaic on the one SH or tensor image given."""
+    from sightline import figures
+
+    images = [path for path in args.files if lower_extension(path) in (".nii", ".nii.gz", ".mif", ".mif.gz")]
+    if len(images) != 1 or len(args.files) != 1:
+        raise ViewError("--mosaic draws one SH or tensor image (.nii, .nii.gz, .mif, .mif.gz), "
+                        f"got {' '.join(args.files)}")
+    if not args.output or not args.output.lower().endswith(".png"):
+        raise ViewError("--mosaic writes a picture: give --output FILE.png")
+    try:
+        figures.mosaic(images[0], underlay=args.underlay, panels=args.mosaic, size=args.size,
+                       output=args.output, basis=args.basis, legacy=args.legacy,
+                       layout=args.layout, frame=args.frame, scale=args.scale,
+                       tensor_shape=args.tensor_shape, background=BACKGROUND)
+    except figures.FigureError as error:
+        raise ViewError(str(error)) from None
+
+
 def main(argv=None):
     args = parse_arguments(argv)
     try:
+        if args.mosaic:
+            run_mosaic(args)
+            return 0
         layers = []
         for path in args.files:
             start = time.perf_counter()

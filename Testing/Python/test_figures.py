@@ -1,0 +1,203 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""sightline.figures and sightline-view --mosaic: report mosaics with no X server.
+
+The slices a mosaic reads are checked against nibabel (an independent NIfTI reader) for
+float, scaled-integer, .nii and .nii.gz files; the mosaic runs with DISPLAY pointing at no
+X server (any X connection would fail); each panel shows glyphs, framed and different from
+its neighbours; labels are drawn with FreeType; the reading stays bounded (traced peak well
+below the image's size); bad requests are named errors."""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import tracemalloc
+import unittest
+
+import nibabel as nib
+import numpy as np
+import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+import sightline  # noqa: F401
+from sightline import figures
+
+VIEW = os.environ.get("SIGHTLINE_VIEW", "sightline-view")
+SH_DATA = os.environ.get("SIGHTLINE_SH_DATA_DIR", "")
+TENSOR_DATA = os.environ.get("SIGHTLINE_TENSOR_DATA_DIR", "")
+NO_X = ":97"  # no X server listens there: a connection attempt would abort the run
+
+
+def read_png(path):
+    """(h, w, 3) uint8, top row first."""
+    reader = vtk.vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    width, height, _ = reader.GetOutput().GetDimensions()
+    pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())
+    return pixels.reshape(height, width, -1)[::-1, :, :3]
+
+
+def synthetic_sh(shape, count=45, seed=3):
+    """SH coefficients in a ball: a positive l = 0 term, smaller higher terms (glyphs with
+    lobes); zero outside, so the ball is the 'brain'."""
+    rng = np.random.default_rng(seed)
+    grid = np.stack(np.meshgrid(*[np.linspace(-1, 1, n) for n in shape], indexing="ij"), -1)
+    inside = (grid ** 2).sum(-1) < 0.8
+    data = np.zeros(shape + (count,), np.float32)
+    data[..., 0] = 1.0
+    data[..., 1:] = 0.25 * rng.standard_normal(shape + (count - 1,))
+    data[~inside] = 0
+    return data
+
+
+class Figures(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.mkdtemp(prefix="sightline_figures_")
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.folder, ignore_errors=True)
+
+    def write_nifti(self, name, data, affine=None, dtype=None, slope=None):
+        image = nib.Nifti1Image(data if dtype is None else data.astype(dtype),
+                                np.diag([1.5, 1.5, 2.0, 1.0]) if affine is None else affine)
+        if slope is not None:
+            image.header.set_slope_inter(slope, 0.25)
+        path = os.path.join(self.folder, name)
+        nib.save(image, path)
+        return path
+
+    # -- reading ----------------------------------------------------------------------------
+    def test_planes_equal_nibabels_slices(self):
+        data = synthetic_sh((9, 11, 7), count=6)
+        cases = [("float.nii.gz", data, None, None), ("float.nii", data, None, None),
+                 ("scaled.nii", (data * 1000).round(), np.int16, 0.5)]
+        for name, values, dtype, slope in cases:
+            path = self.write_nifti(name, values, dtype=dtype, slope=slope)
+            expected = np.asarray(nib.load(path).get_fdata(), dtype=np.float64)
+            planes = figures.NiftiPlanes(path).planes([(0, 3), (1, 0), (2, 6), (2, 2)])
+            for (axis, index), image in planes.items():
+                got = vtk_to_numpy(image.GetPointData().GetScalars())
+                reference = np.take(expected, index, axis=axis)  # (other axes..., components)
+                # VTK orders points x fastest: the reference's axes reversed, flattened.
+                reference = np.moveaxis(reference, (0, 1), (1, 0)).reshape(-1, expected.shape[3])
+                np.testing.assert_allclose(got, reference, rtol=1e-6, atol=1e-6,
+                                           err_msg=f"{name} axis {axis} slice {index}")
+                extent = image.GetExtent()
+                self.assertEqual(extent[2 * axis], index)
+                self.assertEqual(extent[2 * axis + 1], index)
+
+    def test_reading_is_bounded_by_the_slices(self):
+        data = synthetic_sh((40, 48, 36))  # 12 MB of float32 coefficients
+        path = self.write_nifti("bounded.nii", data)
+        tracemalloc.start()
+        figures.mosaic(path, panels="axial:2,coronal:2,sagittal:2", size=(300, 240),
+                       verbose=False)
+        _, peak = tracemalloc.get_traced_memory()
+        tracemalloc.stop()
+        self.assertLess(peak, 0.35 * data.nbytes,
+                        f"traced peak {peak / 1e6:.1f} MB for a {data.nbytes / 1e6:.1f} MB image")
+
+    # -- the figure --------------------------------------------------------------------------
+    def panels(self, picture, rows, columns):
+        height, width = picture.shape[0] // rows, picture.shape[1] // columns
+        return [[picture[r * height:(r + 1) * height, c * width:(c + 1) * width]
+                 for c in range(columns)] for r in range(rows)]
+
+    def test_mosaic_panels_show_framed_distinct_slices(self):
+        path = self.write_nifti("ball.nii.gz", synthetic_sh((30, 34, 26)))
+        picture = figures.mosaic(path, panels="axial:3,coronal:3,sagittal:3", size=(600, 450),
+                                 labels=False, verbose=False)
+        self.assertEqual(picture.shape, (450, 600, 3))
+        grid = self.panels(picture, 3, 3)
+        for r, row in enumerate(grid):
+            for c, panel in enumerate(row):
+                covered = panel.max(axis=-1) > 8  # the background is black
+                rows, cols = np.nonzero(covered.any(axis=1))[0], np.nonzero(covered.any(axis=0))[0]
+                self.assertGreater(covered.mean(), 0.05, f"panel {r},{c} is (nearly) empty")
+                # Framed on the ball: not cut by the panel's edges ...
+                self.assertTrue(rows[0] > 0 and cols[0] > 0 and rows[-1] < panel.shape[0] - 1
+                                and cols[-1] < panel.shape[1] - 1, f"panel {r},{c} is cut")
+            # ... and the middle slice (through the ball's centre) is the widest.
+            widths = [np.ptp(np.nonzero(p.max(axis=-1).max(axis=0) > 8)[0]) for p in row]
+            self.assertEqual(int(np.argmax(widths)), 1, f"row {r}: widths {widths}")
+            self.assertGreater(np.abs(row[0].astype(int) - row[2].astype(int)).mean(), 1.0)
+
+    def test_labels_are_drawn_without_opengl(self):
+        path = self.write_nifti("labels.nii.gz", synthetic_sh((20, 22, 18)))
+        plain = figures.mosaic(path, panels="axial:2", size=(400, 200), labels=False,
+                               verbose=False)
+        labelled = figures.mosaic(path, panels="axial:2", size=(400, 200), verbose=False)
+        changed = np.abs(plain.astype(int) - labelled.astype(int)).max(axis=-1) > 60
+        # Letters at the first panel's four edges and a position under each panel.
+        self.assertTrue(changed[:, :20].any(), "no letter on the left edge")
+        self.assertTrue(changed[:30, 60:140].any(), "no letter at the top")
+        self.assertTrue(changed[170:, 200:300].any(), "no slice position under panel 2")
+        self.assertTrue((labelled[changed] > 200).all(axis=-1).mean() > 0.3, "text is white")
+
+    @unittest.skipUnless(SH_DATA, "needs the SH test data (SHData fixture)")
+    def test_command_line_with_no_x_server(self):
+        sh = os.path.join(SH_DATA, "small_64D_sh_descoteaux07.nii.gz")
+        fa = os.path.join(SH_DATA, "small_64D_fa.nii.gz")
+        mif = os.path.join(SH_DATA, "small_64D_sh_tournier07.mif")
+        environment = dict(os.environ, DISPLAY=NO_X)
+        # With the underlay most of each panel is covered; glyphs alone cover a few per cent.
+        for name, files, fill in (("nifti", [sh, "--underlay", fa], 0.3), ("mif", [mif], 0.02)):
+            output = os.path.join(self.folder, f"report-{name}.png")
+            result = subprocess.run(
+                [sys.executable, VIEW, *files, "--mosaic", "axial:3,coronal:3,sagittal:3",
+                 "--size", "600", "450", "--output", output],
+                capture_output=True, text=True, env=environment, timeout=300)
+            self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+            self.assertIn("9 panels", result.stdout)
+            positions = [float(line.split("= ")[1].split()[0])
+                         for line in result.stdout.splitlines() if line.strip().startswith("panel")]
+            self.assertEqual(len(positions), 9)
+            for row in range(3):  # each row runs from low to high world coordinates
+                self.assertEqual(positions[3 * row:3 * row + 3],
+                                 sorted(positions[3 * row:3 * row + 3]), name)
+            picture = read_png(output)
+            self.assertEqual(picture.shape, (450, 600, 3))
+            for row in self.panels(picture, 3, 3):
+                for panel in row:
+                    background = np.round(np.array([0.07, 0.075, 0.09]) * 255)
+                    covered = np.abs(panel.astype(float) - background).max(axis=-1) > 8
+                    self.assertGreater(covered.mean(), fill, name)
+
+    @unittest.skipUnless(TENSOR_DATA, "needs the tensor test data (TensorData fixture)")
+    def test_tensor_mosaic(self):
+        tensors = [f for f in sorted(os.listdir(TENSOR_DATA)) if f.endswith(".nii.gz")]
+        self.assertTrue(tensors, TENSOR_DATA)
+        picture = figures.mosaic(os.path.join(TENSOR_DATA, tensors[0]), panels="axial:2",
+                                 size=(400, 200), verbose=False)
+        self.assertGreater((picture.max(axis=-1) > 8).mean(), 0.05)
+
+    def test_named_errors(self):
+        path = self.write_nifti("scalar.nii", np.ones((5, 6, 4), np.float32))
+        with self.assertRaisesRegex(figures.FigureError, "scalar image"):
+            figures.mosaic(path, panels="axial:2", size=(200, 100), verbose=False)
+        sh = self.write_nifti("few.nii", synthetic_sh((8, 8, 8), count=6))
+        for panels, message in (("oblique:3", "not axial"), ("axial:x", "whole number"),
+                                ("axial:0", "1 to 64")):
+            with self.assertRaisesRegex(figures.FigureError, message):
+                figures.mosaic(sh, panels=panels, size=(200, 100), verbose=False)
+        with self.assertRaisesRegex(figures.FigureError, "panels of"):
+            figures.mosaic(sh, panels="axial:64", size=(200, 100), verbose=False)
+        with self.assertRaisesRegex(figures.FigureError, "no such file"):
+            figures.mosaic(os.path.join(self.folder, "missing.nii.gz"), verbose=False)
+        broken = os.path.join(self.folder, "short.nii")
+        with open(sh, "rb") as source, open(broken, "wb") as target:
+            target.write(source.read()[:-100])
+        with self.assertRaisesRegex(figures.FigureError, "ends inside its voxel data"):
+            figures.mosaic(broken, panels="axial:2", size=(200, 100), verbose=False)
+        result = subprocess.run([sys.executable, VIEW, sh, "--mosaic", "axial:2"],
+                                capture_output=True, text=True, timeout=120,
+                                env=dict(os.environ, DISPLAY=NO_X))
+        self.assertEqual(result.returncode, 2)
+        self.assertIn("--output FILE.png", result.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -2,8 +2,9 @@
 """Report figures on machines with no display, no OpenGL and little memory.
 
 mosaic() draws rows of evenly spaced slices of an SH or tensor image (NIfTI or MRtrix3) as
-exact glyphs over an anatomical underlay, each panel framed on the brain and labelled with
-orientation letters and its slice position, and returns (and optionally writes) one image:
+exact glyphs, and/or a tractogram as exact tubes (whole, or a slab around each slice), over an
+anatomical underlay, each panel framed on the brain and labelled with orientation letters and
+its slice position, and returns (and optionally writes) one image:
 
     import sightline.figures
     image = sightline.figures.mosaic("fod.nii.gz", underlay="t1.nii.gz",
@@ -16,7 +17,8 @@ in one sequential pass (a .nii.gz decompressed once) that keeps only the planes 
 a .mif is read slice by slice through the reader's extents; each panel's glyphs are freed once
 it is traced. The underlay (a 3-D scalar image) is read whole.
 
-The same function is `sightline-view IMAGE --underlay T1 --mosaic axial:8,... --output F.png`.
+The same function is `sightline-view IMAGE --underlay T1 --mosaic axial:8,... --output F.png`
+(and `sightline-view TRACTS.trx --underlay T1 --mosaic ... --slab 6 --output F.png`).
 """
 import gzip
 import math
@@ -255,6 +257,15 @@ class Underlay:
         self.window = max(float(high - low), 1e-6) / 0.7  # brightest voxels 70 % grey
         self.level = float(low) + 0.5 * self.window
 
+    def corners(self):
+        """World corners of the underlay's voxels (their edges included)."""
+        origin, spacing = np.array(self.image.GetOrigin()), np.array(self.image.GetSpacing())
+        extent = np.array(self.image.GetExtent())
+        low = origin + spacing * (extent[0::2] - 0.5)
+        high = origin + spacing * (extent[1::2] + 0.5)
+        box = [np.where([(i >> a) & 1 for a in range(3)], high, low) for i in range(8)]
+        return np.array([(self.to_world @ np.append(c, 1.0))[:3] for c in box])
+
     def slice_through(self, centre, normal, shift):
         """A vtkImageSlice through world point `centre`, along the underlay's voxel axis closest
         to `normal`, moved by `shift` along the normal (beneath the glyphs)."""
@@ -311,18 +322,147 @@ def draw_text(canvas, text, x, y, size, anchor="left"):
         canvas[y0:y1, x0:x1] = (region * (1 - a) + value * a).round().astype(np.uint8)
 
 
-def mosaic(image, underlay=None, panels="axial:8,coronal:8,sagittal:8", size=(3200, 1200),
-           output=None, basis=None, legacy=None, layout=None, frame="world", scale=1.0,
-           tensor_shape="ellipsoid", background=(0.0, 0.0, 0.0), labels=True, verbose=True):
-    """Rows of evenly spaced glyph slices of `image` (SH or tensor NIfTI/.mif) over an
-    optional scalar `underlay`, traced without OpenGL. Returns the (height, width, 3) uint8
-    picture (top row first) and writes it to `output` (.png) when given.
+class Tractogram:
+    """A .trk, .tck or .trx read whole (direction colours, RAS mm), drawn as exact tubes: the
+    whole tractogram (built once, traced in every panel) or per panel the runs of streamline
+    points within a slab around the slice."""
+
+    def __init__(self, path, radius=None):
+        if view.lower_extension(path) not in (".trk", ".tck", ".trx"):
+            raise FigureError(f"{path}: a mosaic draws streamlines from .trk, .tck or .trx")
+        try:
+            self.data = view.read_tubes(path)
+        except view.ViewError as error:
+            raise FigureError(str(error)) from None
+        bounds = np.array(self.data.GetBounds())
+        self.lower, self.upper = bounds[0::2], bounds[1::2]
+        self.radius = radius or min(0.5, float(np.linalg.norm(self.upper - self.lower)) / 200.0)
+        cells = self.data.GetLines()
+        self.offsets = vtk_to_numpy(cells.GetOffsetsArray())
+        self.ids = vtk_to_numpy(cells.GetConnectivityArray())
+        self.whole = None
+
+    def corners(self):
+        return np.array([np.where([(i >> a) & 1 for a in range(3)], self.upper, self.lower)
+                         for i in range(8)])
+
+    def actor(self, world_axis, position, slab=None):
+        """The tubes' actor for a panel: the whole tractogram (slab None) or the runs of
+        points within slab / 2 of `position` along `world_axis`."""
+        if slab is None:
+            if self.whole is None:
+                self.whole = self._actor(self.data)
+            return self.whole
+        points = vtk_to_numpy(self.data.GetPoints().GetData())
+        keep = np.abs(points[self.ids, world_axis] - position) <= 0.5 * slab
+        line = np.repeat(np.arange(len(self.offsets) - 1), np.diff(self.offsets))
+        new_line = np.ones(len(self.ids), bool)
+        new_line[1:] = line[1:] != line[:-1]
+        previous = np.concatenate([[False], keep[:-1]])
+        starts = keep & (new_line | ~previous)
+        run = np.cumsum(starts) - 1  # the run each kept entry belongs to
+        counts = np.bincount(run[keep], minlength=int(starts.sum()))
+        long_runs = counts >= 2  # a tube link needs two points
+        chosen = keep.copy()
+        chosen[keep] = long_runs[run[keep]]
+        offsets = np.concatenate([[0], np.cumsum(counts[long_runs])]).astype(np.int64)
+        cells = vtk.vtkCellArray()
+        cells.SetData(numpy_to_vtk(offsets, deep=True, array_type=vtk.VTK_ID_TYPE),
+                      numpy_to_vtk(self.ids[chosen].astype(np.int64), deep=True,
+                                   array_type=vtk.VTK_ID_TYPE))
+        piece = vtk.vtkPolyData()
+        piece.SetPoints(self.data.GetPoints())
+        piece.GetPointData().ShallowCopy(self.data.GetPointData())
+        piece.SetLines(cells)
+        return self._actor(piece) if len(offsets) > 1 else None
+
+    def _actor(self, data):
+        mapper = sightline.vtkSightlineTubeMapper()
+        mapper.SetInputDataObject(data)
+        mapper.SetColorModeToDirectScalars()
+        mapper.SetRadius(self.radius)
+        actor = vtk.vtkActor()
+        actor.SetMapper(mapper)
+        view.shade(actor.GetProperty())
+        return actor
+
+
+class Panel(SimpleNamespace):
+    """One panel: its place in the grid, its orientation and the world point its slice
+    plane goes through (plus, for an image, the slice's voxel axis and index)."""
+
+
+def plan_panels(rows, source, tracts, under):
+    """The panels in reading order, and the world corners of the box they frame: the image's
+    brain (nonzero first volume), else the streamlines' bounds, else the underlay's extent."""
+    panels = []
+    if source is not None:
+        box = source.mask_box()
+        lower, upper = box if box is not None else (np.zeros(3, int), np.array(source.shape) - 1)
+        corners = box_corners(lower, upper, source)
+        for row, (orientation, count) in enumerate(rows):
+            world_axis = VIEWS[orientation][0]
+            axis = closest_axis(source.data_to_world, world_axis)
+            indices = slice_indices(lower[axis], upper[axis], count)
+            if source.data_to_world[world_axis, axis] < 0:
+                indices.reverse()  # panels run from low to high world coordinates
+            for column, index in enumerate(indices):
+                centre = source.origin + source.spacing * (lower + upper) / 2.0
+                centre[axis] = source.origin[axis] + source.spacing[axis] * index
+                centre = (source.data_to_world @ np.append(centre, 1.0))[:3]
+                panels.append(Panel(row=row, column=column, orientation=orientation,
+                                    axis=axis, index=index, centre=centre))
+        return panels, corners
+    corners = tracts.corners() if tracts is not None else under.corners()
+    low, high = corners.min(axis=0), corners.max(axis=0)
+    for row, (orientation, count) in enumerate(rows):
+        world_axis = VIEWS[orientation][0]
+        for column in range(count):
+            centre = (low + high) / 2.0
+            centre[world_axis] = low[world_axis] + (high - low)[world_axis] * (column + 1) / (count + 1)
+            panels.append(Panel(row=row, column=column, orientation=orientation, axis=None,
+                                index=None, centre=centre))
+    return panels, corners
+
+
+def panel_camera(panel, corners, aspect):
+    """A parallel camera looking at the panel's plane from its viewing side, framing the box's
+    corners with a small margin."""
+    _, right, up, _ = VIEWS[panel.orientation]
+    right, up = np.array(right, float), np.array(up, float)
+    toward_camera = np.cross(right, up)
+    extent_right, extent_up = corners @ right, corners @ up
+    middle = (right * (extent_right.min() + extent_right.max()) / 2
+              + up * (extent_up.min() + extent_up.max()) / 2)
+    focal = middle + toward_camera * np.dot(panel.centre, toward_camera)
+    depth = float(np.ptp(corners @ toward_camera)) + 10.0
+    camera = vtk.vtkCamera()
+    camera.ParallelProjectionOn()
+    camera.SetFocalPoint(*focal)
+    camera.SetPosition(*(focal + toward_camera * depth))
+    camera.SetViewUp(*up)
+    camera.SetParallelScale(1.04 * max(np.ptp(extent_up) / 2, np.ptp(extent_right) / 2 / aspect))
+    camera.SetClippingRange(0.1, 2 * depth)
+    return camera, toward_camera, up
+
+
+def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", size=(3200, 1200),
+           output=None, tractogram=None, slab=None, radius=None, basis=None, legacy=None,
+           layout=None, frame="world", scale=1.0, tensor_shape="ellipsoid",
+           background=(0.0, 0.0, 0.0), labels=True, verbose=True):
+    """Rows of evenly spaced slices, traced without OpenGL: glyphs of `image` (an SH or tensor
+    NIfTI/.mif) and/or tubes of `tractogram` (.trk, .tck, .trx) over an optional scalar
+    `underlay` (NIfTI). Returns the (height, width, 3) uint8 picture (top row first) and writes
+    it to `output` (.png) when given.
 
     panels: 'axial:8,coronal:8,sagittal:8' (a row per entry; slices evenly spaced over the
-    brain, i.e. the nonzero voxels of the image's first volume); size: (width, height) of the
-    whole figure; basis/legacy/layout/frame/scale/tensor_shape: as sightline-view's options
-    (basis 'dipy' or 'mrtrix3', default by file type); background: RGB in [0, 1]; labels:
-    orientation letters (on each row's first panel) and every panel's slice position."""
+    brain: the image's nonzero first volume, else the streamlines' bounds); size: (width,
+    height) of the whole figure; slab: draw per panel only the streamlines' runs within slab/2
+    mm of the slice (None: the whole tractogram, cut by the underlay plane); radius: tube
+    radius in mm (default 0.5); basis/legacy/layout/frame/scale/tensor_shape: as
+    sightline-view's options (basis 'dipy' or 'mrtrix3', default by file type); background: RGB
+    in [0, 1]; labels: orientation letters (on each row's first panel) and every panel's slice
+    position."""
     start = time.perf_counter()
     rows = parse_panels(panels) if isinstance(panels, str) else list(panels)
     width, height = (int(v) for v in size)
@@ -333,100 +473,86 @@ def mosaic(image, underlay=None, panels="axial:8,coronal:8,sagittal:8", size=(32
     if panel_w < 16 or panel_h < 16:
         raise FigureError(f"{width}x{height} leaves panels of {panel_w}x{panel_h} pixels: make "
                           "the figure larger or use fewer slices")
-    source = open_planes(image)
+    if image is None and tractogram is None:
+        raise FigureError("a mosaic needs an SH or tensor image or a tractogram")
+    if slab is not None and not slab > 0:
+        raise FigureError(f"the slab must be a positive thickness in mm, got {slab}")
     options = SimpleNamespace(basis=basis, legacy=legacy, layout=layout, frame=frame,
                               scale=scale, tensor_shape=tensor_shape)
-    if frame == "voxel" and source.file_axes is None:
+    source = open_planes(image) if image is not None else None
+    if source is not None and frame == "voxel" and source.file_axes is None:
         raise FigureError(f"{image}: frame 'voxel' is for NIfTI files (.mif directions are in "
                           "world axes)")
-    box = source.mask_box()
-    lower, upper = box if box is not None else (np.zeros(3, int), np.array(source.shape) - 1)
-    corners = box_corners(lower, upper, source)
-    plan = []  # (row, column, orientation, axis, index)
-    for row, (orientation, count) in enumerate(rows):
-        world_axis = VIEWS[orientation][0]
-        axis = closest_axis(source.data_to_world, world_axis)
-        indices = slice_indices(lower[axis], upper[axis], count)
-        if source.data_to_world[world_axis, axis] < 0:
-            indices.reverse()  # panels run from low to high world coordinates
-        for column, index in enumerate(indices):
-            plan.append((row, column, orientation, axis, index))
-    if verbose:
-        print(f"mosaic: {len(plan)} panels of {panel_w}x{panel_h}; reading their slices of "
-              f"{os.path.basename(image)} ...", flush=True)
-    planes = source.planes(sorted({(axis, index) for _, _, _, axis, index in plan}))
-    count = next(iter(planes.values())).GetNumberOfScalarComponents()
-    extension = ".mif" if isinstance(source, MifPlanes) else ".nii"
-    try:
-        kind, detail = view.GlyphLayer.classify(image, count, extension, False, options)
-    except view.ViewError as error:
-        raise FigureError(str(error)) from None
     under = Underlay(underlay) if underlay else None
+    tracts = Tractogram(tractogram, radius) if tractogram is not None else None
+    plan, corners = plan_panels(rows, source, tracts, under)
+    if verbose:
+        print(f"mosaic: {len(plan)} panels of {panel_w}x{panel_h}", flush=True)
+    planes, kind = {}, None
+    if source is not None:
+        if verbose:
+            print(f"  reading {len(plan)} slices of {os.path.basename(image)} ...", flush=True)
+        planes = source.planes(sorted({(p.axis, p.index) for p in plan}))
+        count = next(iter(planes.values())).GetNumberOfScalarComponents()
+        extension = ".mif" if isinstance(source, MifPlanes) else ".nii"
+        try:
+            kind, detail = view.GlyphLayer.classify(image, count, extension, False, options)
+        except view.ViewError as error:
+            raise FigureError(str(error)) from None
+        data_to_world = nifti.to_vtk_matrix(source.data_to_world)
+        file_axes = nifti.to_vtk_matrix(source.file_axes) if source.file_axes is not None else None
     canvas = np.empty((height, width, 3), np.uint8)
     canvas[:] = np.round(np.array(background) * 255)
-    data_to_world = nifti.to_vtk_matrix(source.data_to_world)
-    file_axes = nifti.to_vtk_matrix(source.file_axes) if source.file_axes is not None else None
-    for number, (row, column, orientation, axis, index) in enumerate(plan):
+    for number, panel in enumerate(plan):
         panel_start = time.perf_counter()
-        plane = planes[(axis, index)]
-        if not any((a, i) == (axis, index) for _, _, _, a, i in plan[number + 1:]):
-            del planes[(axis, index)]  # no later panel shows it
-        if kind == "tensor" and view.LAYOUTS[detail][1] is not None:
-            plane = view.GlyphLayer.permuted(plane, view.LAYOUTS[detail][1])
-        mapper, actor = view.glyph_actor(kind, detail, count, options, plane, data_to_world,
-                                         file_axes)
-        getattr(mapper, "SetSliceOrientationTo" + orientation.capitalize())()
-        mapper.SetSliceNumber(index)
-        world_axis, right, up, letters = VIEWS[orientation]
-        right, up = np.array(right, float), np.array(up, float)
-        toward_camera = np.cross(right, up)  # the camera looks along -toward_camera
-        centre_data = source.origin + source.spacing * (lower + upper) / 2.0
-        centre_data[axis] = source.origin[axis] + source.spacing[axis] * index
-        centre = (source.data_to_world @ np.append(centre_data, 1.0))[:3]
+        world_axis, _, _, letters = VIEWS[panel.orientation]
+        camera, toward_camera, up = panel_camera(panel, corners, panel_w / panel_h)
         renderer = sightline.vtkSightlineImageRenderer()
-        renderer.AddActor(actor)
-        slice_actor = None
+        beneath = 0.0  # how far behind the slice plane the underlay goes
+        if kind is not None:
+            plane = planes[(panel.axis, panel.index)]
+            if not any((p.axis, p.index) == (panel.axis, panel.index) for p in plan[number + 1:]):
+                del planes[(panel.axis, panel.index)]  # no later panel shows it
+            if kind == "tensor" and view.LAYOUTS[detail][1] is not None:
+                plane = view.GlyphLayer.permuted(plane, view.LAYOUTS[detail][1])
+            mapper, actor = view.glyph_actor(kind, detail, count, options, plane, data_to_world,
+                                             file_axes)
+            getattr(mapper, "SetSliceOrientationTo" + panel.orientation.capitalize())()
+            mapper.SetSliceNumber(panel.index)
+            renderer.AddActor(actor)
+            beneath = 0.6 * scale * 0.5 * float(min(source.spacing))  # beneath the glyphs
+        if tracts is not None:
+            actor = tracts.actor(world_axis, panel.centre[world_axis], slab)
+            if actor is not None:
+                renderer.AddActor(actor)
+            if slab is not None:
+                beneath = max(beneath, 0.5 * slab)  # the whole slab in front of the plane
         if under is not None:
-            radius = scale * 0.5 * float(min(source.spacing))
-            slice_actor = under.slice_through(centre, toward_camera, -0.6 * radius)
+            slice_actor = under.slice_through(panel.centre, toward_camera, -beneath)
             if slice_actor is not None:
                 renderer.AddImageSlice(slice_actor)
-        for light in view.glyph_lights(centre, toward_camera, up):
+        for light in view.glyph_lights(panel.centre, toward_camera, up):
             renderer.AddLight(light)
-        camera = vtk.vtkCamera()
-        camera.ParallelProjectionOn()
-        extent_right, extent_up = corners @ right, corners @ up
-        middle = (right * (extent_right.min() + extent_right.max()) / 2
-                  + up * (extent_up.min() + extent_up.max()) / 2)
-        focal = middle + toward_camera * np.dot(centre, toward_camera)
-        depth = float(np.ptp(corners @ toward_camera)) + 10.0
-        camera.SetFocalPoint(*focal)
-        camera.SetPosition(*(focal + toward_camera * depth))
-        camera.SetViewUp(*up)
-        half_w, half_h = np.ptp(extent_right) / 2, np.ptp(extent_up) / 2
-        camera.SetParallelScale(1.04 * max(half_h, half_w * panel_h / panel_w))
-        camera.SetClippingRange(0.1, 2 * depth)
         renderer.SetActiveCamera(camera)
         renderer.SetSize(panel_w, panel_h)
         renderer.SetBackground(*background)
         renderer.Update()
         picture, _ = view.image_arrays(renderer.GetOutput())
-        y0, x0 = row * panel_h, column * panel_w
+        y0, x0 = panel.row * panel_h, panel.column * panel_w
         canvas[y0:y0 + panel_h, x0:x0 + panel_w] = picture[..., :3]
-        position = f"{WORLD_AXIS_NAMES[world_axis]} = {centre[world_axis]:.1f} mm"
+        position = f"{WORLD_AXIS_NAMES[world_axis]} = {panel.centre[world_axis]:.1f} mm"
         if labels:
             text = max(10, panel_h // 18)
-            if column == 0:  # letters once per row: between panels they would read "R L"
+            if panel.column == 0:  # letters once per row: between panels they would read "R L"
                 draw_text(canvas, letters[0], x0 + 4, y0 + panel_h // 2, text)
                 draw_text(canvas, letters[1], x0 + panel_w - 4, y0 + panel_h // 2, text, "right")
                 draw_text(canvas, letters[3], x0 + panel_w // 2, y0 + text, text, "centre")
                 draw_text(canvas, letters[2], x0 + panel_w // 2, y0 + panel_h - text, text,
                           "centre")
             draw_text(canvas, position, x0 + 4, y0 + panel_h - text, max(8, text * 3 // 4))
-        del renderer, mapper, actor, plane, slice_actor  # this panel's glyphs go now
+        del renderer  # this panel's glyphs (and slab tubes) go now
         if verbose:
-            print(f"  panel {number + 1}/{len(plan)}: {orientation} slice {index} at "
-                  f"{WORLD_AXIS_NAMES[world_axis]} = {centre[world_axis]:.1f} mm "
+            print(f"  panel {number + 1}/{len(plan)}: {panel.orientation} at {position} "
                   f"({time.perf_counter() - panel_start:.1f} s)", flush=True)
     if output:
         write_png(canvas, output)

@@ -1194,6 +1194,10 @@ def parse_arguments(argv):
                              "slices framed on the brain, labelled, e.g. "
                              "axial:8,coronal:8,sagittal:8 (needs --output FILE.png; no X, "
                              "bounded memory: only the drawn slices are read)")
+    glyphs.add_argument("--slab", type=float, metavar="MM",
+                        help="with --mosaic and a tractogram: draw in each panel only the "
+                             "streamlines within a slab this thick around the slice (default: "
+                             "the whole tractogram, cut by the underlay)")
     glyphs.add_argument("--elevation", type=float, default=50.0,
                         help="camera elevation above the slice plane in degrees (default 50)")
     other = parser.add_argument_group("tubes and volumes")
@@ -1226,6 +1230,8 @@ def parse_arguments(argv):
         parser.error(f"--scale must be positive, got {args.scale}")
     if args.radius is not None and args.radius <= 0:
         parser.error(f"--radius must be positive, got {args.radius}")
+    if args.slab is not None and args.slab <= 0:
+        parser.error(f"--slab must be positive, got {args.slab}")
     if args.pieces < 0:
         parser.error(f"--pieces must be 1 or more (0: automatic), got {args.pieces}")
     if min(args.size) <= 0:
@@ -1234,18 +1240,22 @@ def parse_arguments(argv):
 
 
 def run_mosaic(args):
-    """--mosaic: sightline.figures.mosaic on the one SH or tensor image given."""
+    """--mosaic: sightline.figures.mosaic on the SH or tensor image and/or the tractogram given."""
     from sightline import figures
 
-    images = [path for path in args.files if lower_extension(path) in (".nii", ".nii.gz", ".mif", ".mif.gz")]
-    if len(images) != 1 or len(args.files) != 1:
-        raise ViewError("--mosaic draws one SH or tensor image (.nii, .nii.gz, .mif, .mif.gz), "
-                        f"got {' '.join(args.files)}")
+    kinds = {path: lower_extension(path) for path in args.files}
+    images = [p for p, e in kinds.items() if e in (".nii", ".nii.gz", ".mif", ".mif.gz")]
+    tracts = [p for p, e in kinds.items() if e in (".trk", ".tck", ".trx")]
+    if len(images) > 1 or len(tracts) > 1 or len(images) + len(tracts) != len(args.files):
+        raise ViewError("--mosaic draws one SH or tensor image (.nii, .nii.gz, .mif, .mif.gz) "
+                        f"and/or one tractogram (.trk, .tck, .trx), got {' '.join(args.files)}")
     if not args.output or not args.output.lower().endswith(".png"):
         raise ViewError("--mosaic writes a picture: give --output FILE.png")
     try:
-        figures.mosaic(images[0], underlay=args.underlay, panels=args.mosaic, size=args.size,
-                       output=args.output, basis=args.basis, legacy=args.legacy,
+        figures.mosaic(images[0] if images else None, underlay=args.underlay,
+                       panels=args.mosaic, size=args.size, output=args.output,
+                       tractogram=tracts[0] if tracts else None, slab=args.slab,
+                       radius=args.radius, basis=args.basis, legacy=args.legacy,
                        layout=args.layout, frame=args.frame, scale=args.scale,
                        tensor_shape=args.tensor_shape, background=BACKGROUND)
     except figures.FigureError as error:

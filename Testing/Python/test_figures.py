@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """sightline.figures and sightline-view --mosaic: report mosaics with no X server.
+Streamline slabs are checked link by link against a plain loop over nibabel's standard.trk.
 
 The slices a mosaic reads are checked against nibabel (an independent NIfTI reader) for
 float, scaled-integer, .nii and .nii.gz files; the mosaic runs with DISPLAY pointing at no
@@ -25,6 +26,7 @@ from sightline import figures
 VIEW = os.environ.get("SIGHTLINE_VIEW", "sightline-view")
 SH_DATA = os.environ.get("SIGHTLINE_SH_DATA_DIR", "")
 TENSOR_DATA = os.environ.get("SIGHTLINE_TENSOR_DATA_DIR", "")
+NIBABEL_TRK = "/usr/lib/python3/dist-packages/nibabel/tests/data/standard.trk"
 NO_X = ":97"  # no X server listens there: a connection attempt would abort the run
 
 
@@ -174,6 +176,39 @@ class Figures(unittest.TestCase):
                                  size=(400, 200), verbose=False)
         self.assertGreater((picture.max(axis=-1) > 8).mean(), 0.05)
 
+    def test_slab_keeps_exactly_the_links_inside_it(self):
+        tracts = figures.Tractogram(NIBABEL_TRK)
+        points = vtk_to_numpy(tracts.data.GetPoints().GetData())
+        offsets, ids = tracts.offsets, tracts.ids
+        for axis, position, slab in ((2, 1.5, 2.0), (0, 5.0, 3.0), (1, -40.0, 1.0)):
+            inside = lambda p: abs(points[p, axis] - position) <= 0.5 * slab
+            expected = {(ids[k], ids[k + 1]) for line in range(len(offsets) - 1)
+                        for k in range(offsets[line], offsets[line + 1] - 1)
+                        if inside(ids[k]) and inside(ids[k + 1])}
+            actor = tracts.actor(axis, position, slab)
+            got = set()
+            if actor is not None:
+                piece = actor.GetMapper().GetInput()
+                o = vtk_to_numpy(piece.GetLines().GetOffsetsArray())
+                c = vtk_to_numpy(piece.GetLines().GetConnectivityArray())
+                self.assertTrue((np.diff(o) >= 2).all(), "a run of one point")
+                got = {(c[k], c[k + 1]) for run in range(len(o) - 1) for k in range(o[run], o[run + 1] - 1)}
+            self.assertEqual(got, expected, f"axis {axis} at {position}")
+            if axis == 2:
+                self.assertTrue(expected, "the slab should hold some links")
+
+    def test_tractogram_mosaic_whole_and_slab(self):
+        whole = figures.mosaic(tractogram=NIBABEL_TRK, panels="axial:3,coronal:3",
+                               size=(600, 400), verbose=False)
+        slab = figures.mosaic(tractogram=NIBABEL_TRK, panels="axial:3,coronal:3",
+                              size=(600, 400), slab=2.0, verbose=False)
+        for picture in (whole, slab):
+            for row in self.panels(picture, 2, 3):
+                for panel in row:
+                    self.assertGreater((panel.max(axis=-1) > 8).mean(), 0.001)  # not empty
+        # A slab shows less of the tractogram than the whole (cut only by the far clip).
+        self.assertLess((slab.max(axis=-1) > 8).mean(), (whole.max(axis=-1) > 8).mean())
+
     def test_named_errors(self):
         path = self.write_nifti("scalar.nii", np.ones((5, 6, 4), np.float32))
         with self.assertRaisesRegex(figures.FigureError, "scalar image"):
@@ -185,6 +220,10 @@ class Figures(unittest.TestCase):
                 figures.mosaic(sh, panels=panels, size=(200, 100), verbose=False)
         with self.assertRaisesRegex(figures.FigureError, "panels of"):
             figures.mosaic(sh, panels="axial:64", size=(200, 100), verbose=False)
+        with self.assertRaisesRegex(figures.FigureError, "needs an SH or tensor image"):
+            figures.mosaic(verbose=False)
+        with self.assertRaisesRegex(figures.FigureError, "slab must be"):
+            figures.mosaic(tractogram=NIBABEL_TRK, slab=-1, verbose=False)
         with self.assertRaisesRegex(figures.FigureError, "no such file"):
             figures.mosaic(os.path.join(self.folder, "missing.nii.gz"), verbose=False)
         broken = os.path.join(self.folder, "short.nii")

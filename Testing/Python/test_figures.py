@@ -18,9 +18,9 @@ import unittest
 import nibabel as nib
 import numpy as np
 import vtk
-from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
-import sightline  # noqa: F401
+import sightline
 from sightline import figures
 
 VIEW = os.environ.get("SIGHTLINE_VIEW", "sightline-view")
@@ -101,6 +101,82 @@ class Figures(unittest.TestCase):
         tracemalloc.stop()
         self.assertLess(peak, 0.35 * data.nbytes,
                         f"traced peak {peak / 1e6:.1f} MB for a {data.nbytes / 1e6:.1f} MB image")
+
+    # -- image slices without OpenGL ---------------------------------------------------------
+    def test_slice_plane_cuts_a_glyph_at_exact_depth(self):
+        """An SH glyph with an oblique image slice through its centre, GL-free: the slice
+        alone has the plane's analytic window depth (from the camera's projection matrix), and
+        the scene shows at each pixel whichever of glyph and plane is nearer."""
+        coefficients = vtk.vtkImageData()
+        coefficients.SetDimensions(1, 1, 1)
+        values = np.zeros((1, 15), np.float32)
+        values[0, 0], values[0, 3], values[0, 10] = 1.0, 0.6, -0.3  # lobed, lmax 4
+        array = numpy_to_vtk(values, deep=True)
+        coefficients.GetPointData().SetScalars(array)
+        glyph = sightline.vtkSightlineSHGlyphMapper()
+        glyph.SetInputDataObject(coefficients)
+        glyph.SetScaleFactor(2.0)
+        glyph_actor = vtk.vtkActor()
+        glyph_actor.SetMapper(glyph)
+        grey = vtk.vtkImageData()
+        grey.SetDimensions(6, 6, 1)
+        grey.SetSpacing(0.5, 0.5, 1.0)
+        grey.SetOrigin(-1.25, -1.25, 0.0)
+        grey.GetPointData().SetScalars(numpy_to_vtk(np.linspace(0, 255, 36), deep=True))
+        slice_mapper = vtk.vtkImageSliceMapper()
+        slice_mapper.SetInputData(grey)
+        slice_mapper.BorderOn()
+        plane = vtk.vtkImageSlice()
+        plane.SetMapper(slice_mapper)
+        plane.RotateX(35)
+        plane.RotateY(-20)
+        camera = vtk.vtkCamera()
+        camera.SetPosition(1.5, -2.5, 4.0)
+        camera.SetFocalPoint(0, 0, 0)
+        camera.SetViewUp(0, 0, 1)
+        camera.SetClippingRange(1.0, 10.0)
+
+        def render(actors, slices):
+            renderer = sightline.vtkSightlineImageRenderer()
+            for actor in actors:
+                renderer.AddActor(actor)
+            for item in slices:
+                renderer.AddImageSlice(item)
+            renderer.SetActiveCamera(camera)
+            renderer.SetSize(160, 120)
+            renderer.Update()
+            output = renderer.GetOutput()
+            return (vtk_to_numpy(output.GetPointData().GetArray("Depth")).copy(),
+                    vtk_to_numpy(output.GetPointData().GetScalars())[:, :3].copy())
+
+        both, both_rgb = render([glyph_actor], [plane])
+        glyph_depth, glyph_rgb = render([glyph_actor], [])
+        plane_depth, plane_rgb = render([], [plane])
+        self.assertTrue(np.array_equal(both, np.minimum(glyph_depth, plane_depth)))
+        glyph_wins = glyph_depth < plane_depth
+        cut = (glyph_depth < 1) & ~glyph_wins
+        self.assertGreater(glyph_wins.sum(), 100)
+        self.assertGreater(cut.sum(), 100, "the plane should hide part of the glyph")
+        self.assertTrue(np.array_equal(both_rgb[glyph_wins], glyph_rgb[glyph_wins]))
+        self.assertTrue(np.array_equal(both_rgb[cut], plane_rgb[cut]))
+        # The plane's depth: where the pixel ray meets the plane n.x = 0, projected by the
+        # camera's own matrix (in numpy, independent of the kernel's camera).
+        matrix = np.array([[camera.GetCompositeProjectionTransformMatrix(160 / 120, -1, 1)
+                            .GetElement(r, c) for c in range(4)] for r in range(4)])
+        inverse = np.linalg.inv(matrix)
+        normal = np.array(plane.GetMatrix().MultiplyPoint((0, 0, 1, 0))[:3])
+        hit = plane_depth < 1
+        self.assertGreater(hit.sum(), 1000)
+        ys, xs = np.divmod(np.nonzero(hit)[0], 160)
+        ndc_x, ndc_y = (xs + 0.5) / 160 * 2 - 1, (ys + 0.5) / 120 * 2 - 1
+        near = inverse @ np.stack([ndc_x, ndc_y, -np.ones_like(ndc_x), np.ones_like(ndc_x)])
+        far = inverse @ np.stack([ndc_x, ndc_y, np.ones_like(ndc_x), np.ones_like(ndc_x)])
+        near, far = near[:3] / near[3], far[:3] / far[3]
+        t = -(normal @ near) / (normal @ (far - near))
+        point = near + t * (far - near)
+        clip = matrix @ np.vstack([point, np.ones(point.shape[1])])
+        expected = 0.5 * clip[2] / clip[3] + 0.5
+        self.assertLess(np.abs(plane_depth[hit] - expected).max(), 1e-6)
 
     # -- the figure --------------------------------------------------------------------------
     def panels(self, picture, rows, columns):

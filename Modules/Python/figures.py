@@ -449,7 +449,7 @@ def panel_camera(panel, corners, aspect):
 def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", size=(3200, 1200),
            output=None, tractogram=None, slab=None, radius=None, basis=None, legacy=None,
            layout=None, frame="world", scale=1.0, tensor_shape="ellipsoid",
-           background=(0.0, 0.0, 0.0), labels=True, verbose=True):
+           background=(0.0, 0.0, 0.0), labels=True, supersample=None, verbose=True):
     """Rows of evenly spaced slices, traced without OpenGL: glyphs of `image` (an SH or tensor
     NIfTI/.mif) and/or tubes of `tractogram` (.trk, .tck, .trx) over an optional scalar
     `underlay` (NIfTI). Returns the (height, width, 3) uint8 picture (top row first) and writes
@@ -462,7 +462,8 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
     radius in mm (default 0.5); basis/legacy/layout/frame/scale/tensor_shape: as
     sightline-view's options (basis 'dipy' or 'mrtrix3', default by file type); background: RGB
     in [0, 1]; labels: orientation letters (on each row's first panel) and every panel's slice
-    position."""
+    position; supersample: rays per pixel along each axis (None: 2 where a voxel or a tube is
+    under 6 pixels wide, which otherwise aliases into moire, else 1)."""
     start = time.perf_counter()
     rows = parse_panels(panels) if isinstance(panels, str) else list(panels)
     width, height = (int(v) for v in size)
@@ -534,10 +535,20 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
         for light in view.glyph_lights(panel.centre, toward_camera, up):
             renderer.AddLight(light)
         renderer.SetActiveCamera(camera)
-        renderer.SetSize(panel_w, panel_h)
+        # Glyphs and tubes a few pixels wide alias into moire at one ray a pixel: trace k x k
+        # rays a pixel and average them (k from the smallest feature's size in pixels).
+        pixels_per_mm = panel_h / (2.0 * camera.GetParallelScale())
+        features = ([float(min(source.spacing))] if kind else []) + \
+            ([2.0 * tracts.radius] if tracts is not None else [])
+        feature = min(features)
+        k = supersample or (1 if feature * pixels_per_mm >= 6 else 2)
+        renderer.SetSize(k * panel_w, k * panel_h)
         renderer.SetBackground(*background)
         renderer.Update()
         picture, _ = view.image_arrays(renderer.GetOutput())
+        if k > 1:
+            picture = picture[..., :3].reshape(panel_h, k, panel_w, k, 3).mean(axis=(1, 3))
+            picture = picture.round().astype(np.uint8)
         y0, x0 = panel.row * panel_h, panel.column * panel_w
         canvas[y0:y0 + panel_h, x0:x0 + panel_w] = picture[..., :3]
         position = f"{WORLD_AXIS_NAMES[world_axis]} = {panel.centre[world_axis]:.1f} mm"

@@ -25,6 +25,7 @@ import math
 import os
 import sys
 import time
+import zlib
 from types import SimpleNamespace
 
 import numpy as np
@@ -81,6 +82,10 @@ class NiftiPlanes:
         if not os.path.isfile(path) or not reader.CanReadFile(path):
             raise FigureError(f"{path}: no such file" if not os.path.isfile(path)
                               else f"{path}: not a NIfTI-1/2 file")
+        try:
+            nifti.check_header(path)
+        except nifti.NiftiError as error:
+            raise FigureError(str(error)) from None
         reader.SetFileName(path)
         with nifti.VTKErrors() as errors:
             reader.UpdateInformation()
@@ -114,14 +119,19 @@ class NiftiPlanes:
         nx, ny, nz = self.shape
         size = nx * ny * nz * self.dtype.itemsize
         with opener(self.path, "rb") as stream:
-            stream.seek(self.offset)
-            for _ in range(1 if first_only else self.count):
-                data = stream.read(size)
+            for index in range(1 if first_only else self.count):
+                try:
+                    if index == 0:
+                        stream.seek(self.offset)
+                    data = stream.read(size)
+                except (OSError, EOFError, zlib.error) as error:  # a damaged .gz
+                    raise FigureError(f"{self.path}: cannot read its voxel data ({error})") from None
                 if len(data) != size:
                     raise FigureError(f"{self.path}: the file ends inside its voxel data")
                 volume = np.frombuffer(data, self.dtype).reshape(nz, ny, nx).astype(np.float32)
                 if self.scaling:
-                    volume = volume * np.float32(self.scaling[0]) + np.float32(self.scaling[1])
+                    with np.errstate(invalid="ignore", over="ignore"):  # a NaN or huge slope
+                        volume = volume * np.float32(self.scaling[0]) + np.float32(self.scaling[1])
                 yield volume
 
     def mask_box(self):
@@ -144,7 +154,7 @@ class NiftiPlanes:
             out[key] = np.empty((count, self.count), np.float32)
         for component, volume in enumerate(self.volumes()):
             for (axis, index), values in out.items():
-                plane = (volume[:, :, index], volume[:, index, :], volume[index])[axis]
+                plane = np.take(volume, index, axis=2 - axis)  # volume is (z, y, x)
                 values[:, component] = plane.reshape(-1)  # x fastest, as VTK orders points
             del volume
         return {key: self._image(key, values) for key, values in out.items()}

@@ -25,8 +25,13 @@ import os
 import numpy as np
 import vtk
 
-__all__ = ["NiftiError", "VTKErrors", "best_affine", "data_to_world", "file_axes_to_world",
-           "from_vtk_matrix", "read", "to_vtk_matrix"]
+__all__ = ["NiftiError", "VTKErrors", "best_affine", "check_header", "data_to_world",
+           "file_axes_to_world", "from_vtk_matrix", "read", "to_vtk_matrix"]
+
+# NIfTI datatype codes and their bits per voxel (the standard's table; RGB, RGBA and complex
+# included, so that a reader can name them).
+DATATYPE_BITS = {2: 8, 4: 16, 8: 32, 16: 32, 32: 64, 64: 64, 128: 24, 256: 8, 512: 16, 768: 32,
+                 1024: 64, 1280: 64, 1536: 128, 1792: 128, 2048: 256, 2304: 32}
 
 
 class NiftiError(ValueError):
@@ -128,6 +133,66 @@ def file_axes_to_world(reader, as_vtk=True):
     return to_vtk_matrix(matrix) if as_vtk else matrix
 
 
+def check_header(path):
+    """Checks the fixed fields of a single-file NIfTI-1 or NIfTI-2 header (.nii, .nii.gz) before
+    VTK's reader sees it: the header size and magic, dim[0] in 1..7, positive dimensions, a
+    known datatype whose bitpix agrees, a voxel offset past the header and, for an uncompressed
+    file, voxel data that fits in the file. Raises NiftiError naming the file and the field
+    (VTK's reader can crash on some broken headers instead of reporting them)."""
+    import gzip
+    import struct
+
+    opener = gzip.open if path.lower().endswith(".gz") else open
+    try:
+        with opener(path, "rb") as stream:
+            head = stream.read(540)
+    except (OSError, EOFError) as error:
+        raise NiftiError(f"{path}: cannot read it ({error})") from None
+    if len(head) < 348:
+        raise NiftiError(f"{path}: {len(head)} bytes, shorter than a NIfTI header")
+    for order in "<>":
+        size = struct.unpack(order + "i", head[:4])[0]
+        if size in (348, 540):
+            break
+    else:
+        raise NiftiError(f"{path}: not a NIfTI file (header size field {size}, not 348 or 540)")
+    if size == 348:
+        magic = head[344:348]
+        dim = struct.unpack(order + "8h", head[40:56])
+        datatype, bitpix = struct.unpack(order + "2h", head[70:74])
+        offset = struct.unpack(order + "f", head[108:112])[0]
+        valid_magic = (b"n+1\0",)
+    else:
+        if len(head) < 540:
+            raise NiftiError(f"{path}: {len(head)} bytes, shorter than a NIfTI-2 header")
+        magic = head[4:12]
+        datatype, bitpix = struct.unpack(order + "2h", head[12:16])
+        dim = struct.unpack(order + "8q", head[16:80])
+        offset = struct.unpack(order + "q", head[168:176])[0]
+        valid_magic = (b"n+2\0\r\n\032\n",)
+    if magic not in valid_magic:
+        raise NiftiError(f"{path}: not a single-file NIfTI image (magic {bytes(magic)!r})")
+    if not 1 <= dim[0] <= 7:
+        raise NiftiError(f"{path}: dim[0] is {dim[0]}; a NIfTI image has 1 to 7 dimensions")
+    if any(d < 1 for d in dim[1:dim[0] + 1]):
+        raise NiftiError(f"{path}: dimensions {list(dim[1:dim[0] + 1])} are not all positive")
+    if datatype not in DATATYPE_BITS:
+        raise NiftiError(f"{path}: unknown NIfTI datatype {datatype}")
+    if bitpix != DATATYPE_BITS[datatype]:
+        raise NiftiError(f"{path}: bitpix {bitpix} does not match datatype {datatype} "
+                         f"({DATATYPE_BITS[datatype]} bits)")
+    if not (math.isfinite(offset) and offset >= size):
+        raise NiftiError(f"{path}: voxel offset {offset} lies inside the header")
+    if not path.lower().endswith(".gz"):
+        count = 1
+        for d in dim[1:dim[0] + 1]:
+            count *= int(d)
+        needed = int(offset) + count * DATATYPE_BITS[datatype] // 8
+        if needed > os.path.getsize(path):
+            raise NiftiError(f"{path}: the header's {count} voxels need {needed} bytes, the "
+                             f"file has {os.path.getsize(path)}")
+
+
 def read(path, as_vector=True):
     """An updated vtkNIFTIImageReader for `path` (.nii or .nii.gz); with as_vector the 4th axis
     becomes the components of one array (SH coefficients, tensor components). Raises
@@ -137,6 +202,7 @@ def read(path, as_vector=True):
     reader = vtk.vtkNIFTIImageReader()
     if not reader.CanReadFile(path):
         raise NiftiError(f"{path}: not a NIfTI-1/2 file")
+    check_header(path)
     reader.SetFileName(path)
     if as_vector:
         reader.TimeAsVectorOn()

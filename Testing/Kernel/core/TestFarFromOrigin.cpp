@@ -490,3 +490,37 @@ TEST(FarFromOrigin, CylindricalVolume)
     [&](const Camera& camera, Framebuffer& fb) { renderCylindricalVolume(traversal, cells, camera, fb); },
     [](const dvec3& o, const dvec3& d) { return cylinderChord(o, d, 1.5, -1.0, 1.2); });
 }
+
+// Beyond what Embree's float rays can hold (|coordinate| > 1.844e18, e.g. a corrupt NIfTI
+// affine): a camera that far from a sphere at the origin (a scene Embree holds) gives primary
+// rays Embree would reject with an assertion that aborts the process; they are traced as
+// disabled rays and miss, in packets and single rays alike.
+TEST(FarFromOrigin, BeyondEmbreesRangeMissesInsteadOfAborting)
+{
+  EmbreeScene scene;
+  scene.add(std::make_shared<SphereSet>(std::vector<vec3>{ vec3(0.0f) }, std::vector<float>{ 1.0f }));
+  scene.commit();
+  for (const double away : { 3e18, 5e19 })
+  {
+    for (const bool parallel : { false, true })
+    {
+      CameraParameters parameters;
+      parameters.position = dvec3(0.0, away, 0.0);
+      parameters.focalPoint = dvec3(0.0);
+      parameters.viewUp = dvec3(0.0, 0.0, 1.0);
+      parameters.nearClip = 0.01 * away; // rays start 0.99 * away from the origin
+      parameters.farClip = 2.0 * away;
+      parameters.parallelProjection = parallel;
+      parameters.parallelScale = 2.0;
+      const Camera camera = Camera::fromParameters(parameters, 32, 24);
+      Framebuffer fb;
+      Renderer().render(scene, camera, Lighting(), fb, RenderOptions());
+      for (std::size_t i = 0; i < fb.pixelCount(); ++i)
+      {
+        ASSERT_EQ(fb.Color[i].a, 0.0f) << "a ray from " << away << " hit";
+      }
+      SceneHit hit;
+      EXPECT_FALSE(scene.intersect(camera.doublePrimaryRay(16.0, 12.0), hit));
+    }
+  }
+}

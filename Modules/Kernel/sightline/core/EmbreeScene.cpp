@@ -145,8 +145,37 @@ std::size_t EmbreeScene::geometryBytes() const
 
 namespace
 {
-inline void fillEmbreeRay(RTCRay& out, const Ray& ray)
+/// Whether Embree accepts the float ray (its RayK::valid(): finite origin and direction within
+/// +-1.844e18, tnear and tfar not NaN). Data placed absurdly far away (a corrupt NIfTI affine)
+/// gives rays beyond that; they are traced as disabled rays and miss, instead of tripping
+/// Embree's assertion, which aborts the process.
+inline bool embreeAccepts(const Ray& ray)
 {
+  constexpr float kLargest = 1.844e18f; // Embree's FLT_LARGE
+  for (int i = 0; i < 3; ++i)
+  {
+    if (!(std::abs(ray.origin[i]) <= kLargest) || !(std::abs(ray.direction[i]) <= kLargest))
+    {
+      return false;
+    }
+  }
+  return !std::isnan(ray.tnear) && !std::isnan(ray.tfar);
+}
+
+/// A ray Embree skips (tnear > tfar, mask 0): traced, it hits nothing.
+inline Ray disabledRay()
+{
+  Ray ray;
+  ray.origin = vec3(0.0f);
+  ray.direction = vec3(0.0f, 0.0f, 1.0f);
+  ray.tnear = 1.0f;
+  ray.tfar = 0.0f;
+  return ray;
+}
+
+inline void fillEmbreeRay(RTCRay& out, const Ray& given)
+{
+  const Ray ray = embreeAccepts(given) ? given : disabledRay();
 #if defined(__SSE2__)
   // Embree loads (org, tnear) and (dir, time) as one 16-byte vector each, right after this
   // returns: written as single 16-byte stores they forward to those loads; eight scalar stores
@@ -255,7 +284,8 @@ void fillPacket(RTCRayHitNt<K>& rh, int* valid, DoubleRayTrace* traces, const Do
       continue;
     }
     traces[i].ray = rays[i];
-    const Ray ray = rays[i].rounded();
+    const Ray rounded = rays[i].rounded();
+    const Ray ray = embreeAccepts(rounded) ? rounded : disabledRay();
     rh.ray.org_x[i] = ray.origin.x;
     rh.ray.org_y[i] = ray.origin.y;
     rh.ray.org_z[i] = ray.origin.z;

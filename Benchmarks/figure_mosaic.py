@@ -78,12 +78,77 @@ def panel_slices(mask, count=8, skip=0.15):
     return panels
 
 
+def panel_window():
+    """(window, renderer, grab): one offscreen PANEL x PANEL VTK window (needs the X server the
+    benchmark starts) and the filter that reads its pixels back."""
+    import vtk
+
+    window = vtk.vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetSize(PANEL, PANEL)
+    renderer = vtk.vtkRenderer()
+    window.AddRenderer(renderer)
+    grab = vtk.vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    return window, renderer, grab
+
+
+def grab_panel(window, grab, mosaic, row, column):
+    """Renders the window and copies its pixels into the mosaic's panel (row, column)."""
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    window.Render()
+    grab.Modified()
+    grab.Update()
+    shot = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).reshape(PANEL, PANEL, -1)
+    mosaic[row * PANEL:(row + 1) * PANEL, column * PANEL:(column + 1) * PANEL] = shot[::-1, :, :3]
+
+
+def write_png(mosaic, output):
+    import vtk
+    from vtk.util.numpy_support import numpy_to_vtk
+
+    picture = vtk.vtkImageData()
+    picture.SetDimensions(mosaic.shape[1], mosaic.shape[0], 1)
+    picture.GetPointData().SetScalars(numpy_to_vtk(mosaic[::-1].reshape(-1, 3), deep=True))
+    writer = vtk.vtkPNGWriter()
+    writer.SetInputData(picture)
+    writer.SetFileName(output)
+    writer.Write()
+
+
+def grey_slice(plane, axis, origin, spacing, grey):
+    """A vtkImageSlice of a 2-D T1 plane (normal to data axis `axis`), white matter at about
+    70 % grey (grey: the 0.5th and 99.5th percentiles)."""
+    import vtk
+    from vtk.util.numpy_support import numpy_to_vtk
+
+    plane = np.ascontiguousarray(plane)
+    dims = [plane.shape[0], plane.shape[1]]
+    dims.insert(axis, 1)
+    image = vtk.vtkImageData()
+    image.SetDimensions(*dims)
+    image.SetSpacing(*spacing)
+    image.SetOrigin(*origin)
+    image.GetPointData().SetScalars(numpy_to_vtk(plane.ravel(order="F"), deep=True))
+    mapper = vtk.vtkImageSliceMapper()
+    mapper.SetInputData(image)
+    mapper.SetOrientation(axis)
+    underlay = vtk.vtkImageSlice()
+    underlay.SetMapper(mapper)
+    underlay.GetProperty().SetColorWindow(1.4 * (grey[1] - grey[0]))
+    underlay.GetProperty().SetColorLevel(grey[0] + 0.7 * (grey[1] - grey[0]))
+    return underlay
+
+
 def baseline(data, output):
     """The child: odf_slicer's way (see the docstring). Prints one JSON line of details."""
     started = time.perf_counter()
     import nibabel as nib
     import vtk
-    from vtk.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+    from vtk.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
     from dipy.data import get_sphere
     from dipy.reconst.shm import sh_to_sf
 
@@ -103,15 +168,7 @@ def baseline(data, output):
     centre = (low + high) / 2
     grey = np.percentile(t1[mask], [0.5, 99.5])
 
-    window = vtk.vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(PANEL, PANEL)
-    renderer = vtk.vtkRenderer()
-    window.AddRenderer(renderer)
-    grab = vtk.vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.SetInputBufferTypeToRGB()
-    grab.ReadFrontBufferOff()
+    window, renderer, grab = panel_window()
     mosaic = np.zeros((3 * PANEL, 8 * PANEL, 3), np.uint8)
     glyphs, most_triangles, panels = 0, 0, panel_slices(mask)
     phase = dict.fromkeys(("sf", "mesh", "render"), 0.0)
@@ -151,23 +208,9 @@ def baseline(data, output):
         glyphs, most_triangles = glyphs + n, max(most_triangles, n * len(faces))
 
         # The T1 slice, one voxel behind the glyphs as seen from the camera.
-        plane = np.ascontiguousarray(t1[cut])
-        dims = [plane.shape[0], plane.shape[1]]
-        dims.insert(axis, 1)
-        under = vtk.vtkImageData()
-        under.SetDimensions(*dims)
-        under.SetSpacing(voxel, voxel, voxel)
         origin = affine[:3, 3].copy()
         origin[axis] += index * voxel - TOWARD_CAMERA[name] * voxel
-        under.SetOrigin(*origin)
-        under.GetPointData().SetScalars(numpy_to_vtk(plane.ravel(order="F"), deep=True))
-        slice_mapper = vtk.vtkImageSliceMapper()
-        slice_mapper.SetInputData(under)
-        slice_mapper.SetOrientation(axis)
-        underlay = vtk.vtkImageSlice()
-        underlay.SetMapper(slice_mapper)
-        underlay.GetProperty().SetColorWindow(1.4 * (grey[1] - grey[0]))  # white matter at
-        underlay.GetProperty().SetColorLevel(grey[0] + 0.7 * (grey[1] - grey[0]))  # ~70 % grey
+        underlay = grey_slice(t1[cut], axis, origin, [voxel] * 3, grey)
         label = vtk.vtkTextActor()
         label.SetInput(f"{name} {'xyz'[axis]} = {origin[axis] + TOWARD_CAMERA[name] * voxel:+.1f} mm")
         label.GetTextProperty().SetFontSize(16)
@@ -189,23 +232,12 @@ def baseline(data, output):
         renderer.ResetCameraClippingRange()
         phase["mesh"] += time.perf_counter() - clock
         clock = time.perf_counter()
-        window.Render()
-        grab.Modified()
-        grab.Update()
-        shot = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).reshape(PANEL, PANEL, -1)
-        row, column = ROWS.index(name), number % 8
-        mosaic[row * PANEL:(row + 1) * PANEL, column * PANEL:(column + 1) * PANEL] = shot[::-1, :, :3]
+        grab_panel(window, grab, mosaic, ROWS.index(name), number % 8)
         renderer.RemoveAllViewProps()
         del poly, cells, vtk_points, rgb, mapper, glyph_actor
         phase["render"] += time.perf_counter() - clock
 
-    picture = vtk.vtkImageData()
-    picture.SetDimensions(8 * PANEL, 3 * PANEL, 1)
-    picture.GetPointData().SetScalars(numpy_to_vtk(mosaic[::-1].reshape(-1, 3), deep=True))
-    writer = vtk.vtkPNGWriter()
-    writer.SetInputData(picture)
-    writer.SetFileName(output)
-    writer.Write()
+    write_png(mosaic, output)
     print(json.dumps({"load_s": loaded, "total_s": time.perf_counter() - started, **phase,
                       "glyphs": glyphs, "most_triangles": most_triangles,
                       "renderer": [line.split(":", 1)[1].strip() for line in
@@ -230,7 +262,7 @@ def tracts_baseline(data, tck, output):
     started = time.perf_counter()
     import nibabel as nib
     import vtk
-    from vtk.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+    from vtk.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
 
     tractogram = nib.streamlines.load(tck)
     points = np.asarray(tractogram.streamlines.get_data(), np.float32)
@@ -245,15 +277,7 @@ def tracts_baseline(data, tck, output):
     grey = np.percentile(t1[t1 > 0], [0.5, 99.5])
     loaded = time.perf_counter() - started
     low, high = points.min(0), points.max(0)
-    window = vtk.vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(PANEL, PANEL)
-    renderer = vtk.vtkRenderer()
-    window.AddRenderer(renderer)
-    grab = vtk.vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.SetInputBufferTypeToRGB()
-    grab.ReadFrontBufferOff()
+    window, renderer, grab = panel_window()
     mosaic = np.zeros((3 * PANEL, 8 * PANEL, 3), np.uint8)
     phase = dict.fromkeys(("mesh", "render"), 0.0)
     most_triangles = 0
@@ -295,24 +319,9 @@ def tracts_baseline(data, tck, output):
             index = int(round((behind - affine[axis, 3]) / affine[axis, axis]))
             index = min(max(index, 0), t1.shape[axis] - 1)
             cut = tuple(index if a == axis else slice(None) for a in range(3))
-            plane = np.ascontiguousarray(t1[cut])
-            dims = [plane.shape[0], plane.shape[1]]
-            dims.insert(axis, 1)
-            under = vtk.vtkImageData()
-            under.SetDimensions(*dims)
-            spacing = np.abs(np.diag(affine)[:3])
-            under.SetSpacing(*spacing)
             origin = affine[:3, 3].copy()
             origin[axis] = behind
-            under.SetOrigin(*origin)
-            under.GetPointData().SetScalars(numpy_to_vtk(plane.ravel(order="F"), deep=True))
-            slice_mapper = vtk.vtkImageSliceMapper()
-            slice_mapper.SetInputData(under)
-            slice_mapper.SetOrientation(axis)
-            underlay = vtk.vtkImageSlice()
-            underlay.SetMapper(slice_mapper)
-            underlay.GetProperty().SetColorWindow(1.4 * (grey[1] - grey[0]))
-            underlay.GetProperty().SetColorLevel(grey[0] + 0.7 * (grey[1] - grey[0]))
+            underlay = grey_slice(t1[cut], axis, origin, np.abs(np.diag(affine)[:3]), grey)
             renderer.RemoveAllViewProps()
             renderer.AddViewProp(underlay)
             renderer.AddViewProp(actor)
@@ -329,21 +338,11 @@ def tracts_baseline(data, tck, output):
             renderer.ResetCameraClippingRange()
             phase["mesh"] += time.perf_counter() - clock
             clock = time.perf_counter()
-            window.Render()
-            grab.Modified()
-            grab.Update()
-            shot = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).reshape(PANEL, PANEL, -1)
-            mosaic[row * PANEL:(row + 1) * PANEL, column * PANEL:(column + 1) * PANEL] = shot[::-1, :, :3]
+            grab_panel(window, grab, mosaic, row, column)
             renderer.RemoveAllViewProps()
             del poly, cells, vtk_points, rgb, tubes, mapper, actor
             phase["render"] += time.perf_counter() - clock
-    picture = vtk.vtkImageData()
-    picture.SetDimensions(8 * PANEL, 3 * PANEL, 1)
-    picture.GetPointData().SetScalars(numpy_to_vtk(mosaic[::-1].reshape(-1, 3), deep=True))
-    writer = vtk.vtkPNGWriter()
-    writer.SetInputData(picture)
-    writer.SetFileName(output)
-    writer.Write()
+    write_png(mosaic, output)
     print(json.dumps({"load_s": loaded, **phase, "most_triangles": most_triangles,
                       "links": int(len(points) - (len(offsets) - 1))}))
 

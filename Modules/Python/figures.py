@@ -21,9 +21,7 @@ The same function is `sightline-view IMAGE --underlay T1 --mosaic axial:8,... --
 (and `sightline-view TRACTS.trx --underlay T1 --mosaic ... --slab 6 --output F.png`).
 """
 import gzip
-import math
 import os
-import sys
 import time
 import zlib
 from types import SimpleNamespace
@@ -248,60 +246,6 @@ def slice_indices(lower, upper, count):
     return sorted({int(round(lower + (upper - lower) * (i + 1) / (count + 1))) for i in range(count)})
 
 
-class Underlay:
-    """A scalar NIfTI read whole, drawn as a grey slice through each panel's plane."""
-
-    def __init__(self, path):
-        try:
-            self.reader = nifti.read(path, as_vector=False)
-        except nifti.NiftiError as error:
-            raise FigureError(f"underlay {error}") from None
-        self.image = self.reader.GetOutput()
-        if self.image.GetNumberOfScalarComponents() != 1:
-            raise FigureError(f"underlay {path}: {self.image.GetNumberOfScalarComponents()} "
-                              "values per voxel; the underlay is a scalar image (FA, T1, b0)")
-        self.to_world = nifti.data_to_world(self.reader, as_vtk=False)
-        values = vtk_to_numpy(self.image.GetPointData().GetScalars())
-        values = values[np.isfinite(values)]
-        low, high = np.percentile(values, [1, 99.5]) if values.size else (0.0, 1.0)
-        self.window = max(float(high - low), 1e-6) / 0.7  # brightest voxels 70 % grey
-        self.level = float(low) + 0.5 * self.window
-
-    def corners(self):
-        """World corners of the underlay's voxels (their edges included)."""
-        origin, spacing = np.array(self.image.GetOrigin()), np.array(self.image.GetSpacing())
-        extent = np.array(self.image.GetExtent())
-        low = origin + spacing * (extent[0::2] - 0.5)
-        high = origin + spacing * (extent[1::2] + 0.5)
-        box = [np.where([(i >> a) & 1 for a in range(3)], high, low) for i in range(8)]
-        return np.array([(self.to_world @ np.append(c, 1.0))[:3] for c in box])
-
-    def slice_through(self, centre, normal, shift):
-        """A vtkImageSlice through world point `centre`, along the underlay's voxel axis closest
-        to `normal`, moved by `shift` along the normal (beneath the glyphs)."""
-        axis = closest_axis(self.to_world, int(np.argmax(np.abs(normal))))
-        data = np.linalg.solve(self.to_world, np.append(centre, 1.0))[:3]
-        origin, spacing, extent = self.image.GetOrigin(), self.image.GetSpacing(), self.image.GetExtent()
-        index = int(round((data[axis] - origin[axis]) / spacing[axis]))
-        if not extent[2 * axis] <= index <= extent[2 * axis + 1]:
-            return None
-        mapper = vtk.vtkImageSliceMapper()
-        mapper.SetInputConnection(self.reader.GetOutputPort())
-        mapper.SetOrientation(axis)
-        mapper.SetSliceNumber(index)
-        mapper.BorderOn()
-        actor = vtk.vtkImageSlice()
-        actor.SetMapper(mapper)
-        moved = self.to_world.copy()
-        moved[:3, 3] += shift * normal
-        actor.SetUserMatrix(nifti.to_vtk_matrix(moved))
-        prop = actor.GetProperty()
-        prop.SetColorWindow(self.window)
-        prop.SetColorLevel(self.level)
-        prop.SetInterpolationTypeToNearest()
-        return actor
-
-
 def draw_text(canvas, text, x, y, size, anchor="left"):
     """Writes white text with a dark shadow into canvas (h, w, 3, top row first) at pixel
     (x, y) (its left/centre/right, middle), with VTK's FreeType renderer (no OpenGL)."""
@@ -494,7 +438,10 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
     if source is not None and frame == "voxel" and source.file_axes is None:
         raise FigureError(f"{image}: frame 'voxel' is for NIfTI files (.mif directions are in "
                           "world axes)")
-    under = Underlay(underlay) if underlay else None
+    try:
+        under = view.Underlay(underlay) if underlay else None
+    except view.ViewError as error:
+        raise FigureError(str(error).replace("--underlay ", "underlay ")) from None
     tracts = Tractogram(tractogram, radius) if tractogram is not None else None
     plan, corners = plan_panels(rows, source, tracts, under)
     if verbose:
@@ -538,10 +485,8 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
                 renderer.AddActor(actor)
             if slab is not None:
                 beneath = max(beneath, 0.5 * slab)  # the whole slab in front of the plane
-        if under is not None:
-            slice_actor = under.slice_through(panel.centre, toward_camera, -beneath)
-            if slice_actor is not None:
-                renderer.AddImageSlice(slice_actor)
+        if under is not None and under.place(panel.centre, toward_camera, -beneath, clamp=False):
+            renderer.AddImageSlice(under.actor)
         for light in view.glyph_lights(panel.centre, toward_camera, up):
             renderer.AddLight(light)
         renderer.SetActiveCamera(camera)

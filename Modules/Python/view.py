@@ -714,22 +714,40 @@ class Underlay:
         prop.SetInterpolationTypeToNearest()
 
     def follow(self, layer):
-        """The underlay's slice through the glyph slice's centre, along the underlay's voxel
-        axis closest to the glyph slice normal, moved just below the glyphs."""
+        """The underlay's slice through the glyph slice's centre, moved just below the glyphs."""
         centre, normal, _ = layer.slice_frame()
+        radius = layer.args.scale * 0.5 * min(layer.image.GetSpacing())
+        self.place(centre, normal, -0.6 * radius)
+
+    def place(self, centre, normal, shift, clamp=True):
+        """Shows the slice through world point `centre` along the underlay's voxel axis closest
+        to `normal`, moved by `shift` along it. A plane outside the image shows the nearest
+        slice, or with clamp off hides the slice and returns False."""
         columns = self.to_world[:3, :3] / np.linalg.norm(self.to_world[:3, :3], axis=0)
         axis = int(np.argmax(np.abs(columns.T @ normal)))
         data = np.linalg.solve(self.to_world, np.append(centre, 1.0))[:3]
         origin, spacing = self.image.GetOrigin(), self.image.GetSpacing()
         extent = self.image.GetExtent()
         index = int(round((data[axis] - origin[axis]) / spacing[axis]))
+        inside = extent[2 * axis] <= index <= extent[2 * axis + 1]
+        self.actor.SetVisibility(inside or clamp)
+        if not (inside or clamp):
+            return False
         index = min(max(index, extent[2 * axis]), extent[2 * axis + 1])
         self.slice_mapper.SetOrientation(axis)
         self.slice_mapper.SetSliceNumber(index)
-        radius = layer.args.scale * 0.5 * min(layer.image.GetSpacing())
         shifted = self.to_world.copy()
-        shifted[:3, 3] -= 0.6 * radius * normal
+        shifted[:3, 3] += shift * np.asarray(normal, float)
         self.matrix.DeepCopy(nifti.to_vtk_matrix(shifted))
+        return True
+
+    def corners(self):
+        """World corners of the underlay's voxels (their outer edges included)."""
+        origin, spacing = np.array(self.image.GetOrigin()), np.array(self.image.GetSpacing())
+        extent = np.array(self.image.GetExtent())
+        low, high = origin + spacing * (extent[0::2] - 0.5), origin + spacing * (extent[1::2] + 0.5)
+        box = [np.where([(i >> a) & 1 for a in range(3)], high, low) for i in range(8)]
+        return np.array([(self.to_world @ np.append(c, 1.0))[:3] for c in box])
 
 
 def ramp_volume_property(low, high, max_opacity=0.6):

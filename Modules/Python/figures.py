@@ -346,9 +346,9 @@ class Panel(SimpleNamespace):
     plane goes through (plus, for an image, the slice's voxel axis and index)."""
 
 
-def plan_panels(rows, source, tracts, under):
+def plan_panels(rows, source, tracts):
     """The panels in reading order, and the world corners of the box they frame: the image's
-    brain (nonzero first volume), else the streamlines' bounds, else the underlay's extent."""
+    brain (nonzero first volume), else the streamlines' bounds."""
     panels = []
     if source is not None:
         box = source.mask_box()
@@ -367,7 +367,7 @@ def plan_panels(rows, source, tracts, under):
                 panels.append(Panel(row=row, column=column, orientation=orientation,
                                     axis=axis, index=index, centre=centre))
         return panels, corners
-    corners = tracts.corners() if tracts is not None else under.corners()
+    corners = tracts.corners()  # without an image, mosaic() has a tractogram
     low, high = corners.min(axis=0), corners.max(axis=0)
     for row, (orientation, count) in enumerate(rows):
         world_axis = VIEWS[orientation][0]
@@ -443,7 +443,7 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
     except view.ViewError as error:
         raise FigureError(str(error).replace("--underlay ", "underlay ")) from None
     tracts = Tractogram(tractogram, radius) if tractogram is not None else None
-    plan, corners = plan_panels(rows, source, tracts, under)
+    plan, corners = plan_panels(rows, source, tracts)
     if verbose:
         print(f"mosaic: {len(plan)} panels of {panel_w}x{panel_h}", flush=True)
     planes, kind = {}, None

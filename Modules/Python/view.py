@@ -741,14 +741,6 @@ class Underlay:
         self.matrix.DeepCopy(nifti.to_vtk_matrix(shifted))
         return True
 
-    def corners(self):
-        """World corners of the underlay's voxels (their outer edges included)."""
-        origin, spacing = np.array(self.image.GetOrigin()), np.array(self.image.GetSpacing())
-        extent = np.array(self.image.GetExtent())
-        low, high = origin + spacing * (extent[0::2] - 0.5), origin + spacing * (extent[1::2] + 0.5)
-        box = [np.where([(i >> a) & 1 for a in range(3)], high, low) for i in range(8)]
-        return np.array([(self.to_world @ np.append(c, 1.0))[:3] for c in box])
-
 
 def ramp_volume_property(low, high, max_opacity=0.6):
     """A vtkVolumeProperty for values in [low, high]: a perceptual colour ramp (dark blue, teal,

@@ -246,9 +246,10 @@ def slice_indices(lower, upper, count):
     return sorted({int(round(lower + (upper - lower) * (i + 1) / (count + 1))) for i in range(count)})
 
 
-def draw_text(canvas, text, x, y, size, anchor="left"):
-    """Writes white text with a dark shadow into canvas (h, w, 3, top row first) at pixel
-    (x, y) (its left/centre/right, middle), with VTK's FreeType renderer (no OpenGL)."""
+def draw_text(canvas, text, x, y, size, anchor="left", colour=(255, 255, 255)):
+    """Writes text (white by default) with a dark shadow into canvas (h, w, 3, top row first)
+    at pixel (x, y) (its left/centre/right, middle), with VTK's FreeType renderer (no OpenGL).
+    Returns its width in pixels."""
     renderer = vtk.vtkTextRenderer()
     prop = vtk.vtkTextProperty()
     prop.SetFontSize(size)
@@ -256,24 +257,44 @@ def draw_text(canvas, text, x, y, size, anchor="left"):
     prop.SetColor(1, 1, 1)
     image, dims = vtk.vtkImageData(), [0, 0]
     if not renderer.RenderString(prop, text, image, dims, 72):
-        return
+        return 0
     width, height, _ = image.GetDimensions()
     alpha = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, 4)[::-1, :, 3]
     rows, columns = np.nonzero(alpha)
     if not rows.size:
-        return
+        return 0
     alpha = alpha[rows.min():rows.max() + 1, columns.min():columns.max() + 1] / 255.0
     h, w = alpha.shape
     left = {"left": x, "centre": x - w // 2, "right": x - w}[anchor]
     top = y - h // 2
-    for dx, dy, value in ((1, 1, 0.0), (0, 0, 255.0)):  # shadow, then the text
+    for dx, dy, value in ((1, 1, (0, 0, 0)), (0, 0, colour)):  # shadow, then the text
         y0, x0 = max(top + dy, 0), max(left + dx, 0)
         y1, x1 = min(top + dy + h, canvas.shape[0]), min(left + dx + w, canvas.shape[1])
         if y1 <= y0 or x1 <= x0:
             continue
         a = alpha[y0 - top - dy:y1 - top - dy, x0 - left - dx:x1 - left - dx, None]
         region = canvas[y0:y1, x0:x1].astype(np.float32)
-        canvas[y0:y1, x0:x1] = (region * (1 - a) + value * a).round().astype(np.uint8)
+        blended = region * (1 - a) + np.array(value, np.float32) * a
+        canvas[y0:y1, x0:x1] = blended.round().astype(np.uint8)
+    return w
+
+
+def draw_direction_key(canvas, x, y, size):
+    """The direction colours' key, right-aligned at (x, y): red L-R, green A-P, blue S-I (the
+    |tangent| and |lobe direction| colouring of tubes and glyphs)."""
+    for text, colour in (("S-I", (90, 140, 255)), ("A-P", (60, 220, 60)), ("L-R", (255, 70, 70))):
+        x -= draw_text(canvas, text, x, y, size, "right", colour) + size // 2
+
+
+def draw_scalar_bar(canvas, x, y, height, low, high, size):
+    """A grey ramp from `low` (bottom) to `high` (top), `height` pixels tall with its top right
+    corner at (x, y), labelled with both values: the underlay's window."""
+    width = max(6, size // 2)
+    ramp = np.linspace(255, 0, height)[:, None, None].round().astype(np.uint8)
+    y1, x0 = min(y + height, canvas.shape[0]), max(x - width, 0)
+    canvas[y:y1, x0:x] = ramp[:y1 - y]
+    draw_text(canvas, f"{high:.4g}", x0 - 4, y + size // 2, size, "right")
+    draw_text(canvas, f"{low:.4g}", x0 - 4, y1 - size // 2, size, "right")
 
 
 class Tractogram:
@@ -403,7 +424,8 @@ def panel_camera(panel, corners, aspect):
 def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", size=(3200, 1200),
            output=None, tractogram=None, slab=None, radius=None, basis=None, legacy=None,
            layout=None, frame="world", scale=1.0, tensor_shape="ellipsoid",
-           background=(0.0, 0.0, 0.0), labels=True, supersample=None, verbose=True):
+           background=(0.0, 0.0, 0.0), labels=True, scalar_bar=False, supersample=None,
+           verbose=True):
     """Rows of evenly spaced slices, traced without OpenGL: glyphs of `image` (an SH or tensor
     NIfTI/.mif) and/or tubes of `tractogram` (.trk, .tck, .trx) over an optional scalar
     `underlay` (NIfTI). Returns the (height, width, 3) uint8 picture (top row first) and writes
@@ -416,7 +438,8 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
     radius in mm (default 0.5); basis/legacy/layout/frame/scale/tensor_shape: as
     sightline-view's options (basis 'dipy' or 'mrtrix3', default by file type); background: RGB
     in [0, 1]; labels: orientation letters (on each row's first panel) and every panel's slice
-    position; supersample: rays per pixel along each axis (None: 2 where a voxel or a tube is
+    position, and the direction colours' key; scalar_bar: the underlay's grey window as a
+    labelled ramp in the first row's last panel; supersample: rays per pixel along each axis (None: 2 where a voxel or a tube is
     under 6 pixels wide, which otherwise aliases into moire, else 1)."""
     start = time.perf_counter()
     rows = parse_panels(panels) if isinstance(panels, str) else list(panels)
@@ -520,6 +543,16 @@ def mosaic(image=None, underlay=None, panels="axial:8,coronal:8,sagittal:8", siz
         if verbose:
             print(f"  panel {number + 1}/{len(plan)}: {panel.orientation} at {position} "
                   f"({time.perf_counter() - panel_start:.1f} s)", flush=True)
+    if labels:
+        text = max(10, panel_h // 18)
+        right = (max(p.column for p in plan if p.row == 0) + 1) * panel_w - 6
+        draw_direction_key(canvas, right, text, max(8, text * 3 // 4))
+    if scalar_bar and under is not None:
+        prop = under.actor.GetProperty()
+        low = prop.GetColorLevel() - 0.5 * prop.GetColorWindow()
+        right = (max(p.column for p in plan if p.row == 0) + 1) * panel_w - 6
+        draw_scalar_bar(canvas, right, 2 * max(10, panel_h // 18), panel_h // 2, low,
+                        low + prop.GetColorWindow(), max(8, panel_h // 24))
     if output:
         write_png(canvas, output)
     if verbose:

@@ -1208,6 +1208,8 @@ def parse_arguments(argv):
                         help="with --mosaic and a tractogram: draw in each panel only the "
                              "streamlines within a slab this thick around the slice (default: "
                              "the whole tractogram, cut by the underlay)")
+    glyphs.add_argument("--scalar-bar", action="store_true",
+                        help="with --mosaic: the underlay's grey window as a labelled ramp")
     glyphs.add_argument("--elevation", type=float, default=50.0,
                         help="camera elevation above the slice plane in degrees (default 50)")
     other = parser.add_argument_group("tubes and volumes")
@@ -1267,7 +1269,8 @@ def run_mosaic(args):
                        tractogram=tracts[0] if tracts else None, slab=args.slab,
                        radius=args.radius, basis=args.basis, legacy=args.legacy,
                        layout=args.layout, frame=args.frame, scale=args.scale,
-                       tensor_shape=args.tensor_shape, background=BACKGROUND)
+                       tensor_shape=args.tensor_shape, background=BACKGROUND,
+                       scalar_bar=args.scalar_bar)
     except figures.FigureError as error:
         raise ViewError(str(error)) from None
 

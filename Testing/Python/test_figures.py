@@ -215,6 +215,24 @@ class Figures(unittest.TestCase):
         self.assertTrue(changed[:30, 60:140].any(), "no letter at the top")
         self.assertTrue(changed[170:, 200:300].any(), "no slice position under panel 2")
         self.assertTrue((labelled[changed] > 200).all(axis=-1).mean() > 0.3, "text is white")
+        # The direction key at the top right: red, green and blue words.
+        key = labelled[:24, 260:400].astype(int)
+        for channel in range(3):
+            others = [c for c in range(3) if c != channel]
+            saturated = (key[..., channel] > 180) & (key[..., others].max(axis=-1) < 150)
+            self.assertTrue(saturated.any(), f"no key word in colour channel {channel}")
+
+    @unittest.skipUnless(SH_DATA, "needs the SH test data (SHData fixture)")
+    def test_scalar_bar_shows_the_underlay_window(self):
+        sh = os.path.join(SH_DATA, "small_64D_sh_descoteaux07.nii.gz")
+        fa = os.path.join(SH_DATA, "small_64D_fa.nii.gz")
+        picture = figures.mosaic(sh, underlay=fa, panels="axial:2", size=(400, 200),
+                                 scalar_bar=True, verbose=False)
+        # A grey ramp in the last panel's right edge: grey, brighter towards the top.
+        column = picture[2 * 11:2 * 11 + 100, 400 - 6 - 3].astype(int)
+        self.assertTrue((np.abs(column[:, 0] - column[:, 1]) <= 1).all(), "not grey")
+        self.assertTrue((np.diff(column[:, 0]) <= 0).all(), "not darker downwards")
+        self.assertGreater(column[0, 0] - column[-1, 0], 200)
 
     @unittest.skipUnless(SH_DATA, "needs the SH test data (SHData fixture)")
     def test_command_line_with_no_x_server(self):

@@ -170,7 +170,7 @@ bool SightlineImageSliceTracer::UpdateScene()
     double best = -1;
     for (int axis = 0; axis < 3; ++axis)
     {
-      const double along = std::abs(f[axis] - p[axis]) * spacing[axis];
+      const double along = std::abs(f[axis] - p[axis]);
       if (along > best)
       {
         best = along;

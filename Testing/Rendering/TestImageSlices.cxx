@@ -24,6 +24,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 
@@ -252,6 +253,41 @@ TEST(ImageSlices, CroppedSagittalAndTranslucentMatchTheWindow)
   const Comparison translucent = Compare(slice, spheres, false, aim);
   // A translucent slice writes no depth: only colours are compared.
   EXPECT_GE(translucent.within2, 0.999 * translucent.pixels) << "translucent slice";
+}
+
+TEST(ImageSlices, SliceFacingTheCameraAtTheFocalPointMatchesTheWindow)
+{
+  // SliceFacesCamera and SliceAtFocalPoint: the mapper picks the axis and slice from the camera
+  // at render time; the GL-free path must pick the same ones. The spacing is anisotropic, so an
+  // axis weighed by its spacing would pick another one.
+  auto volume = MakeVolume();
+  vtkNew<vtkImageSliceMapper> mapper;
+  mapper->SetInputData(volume);
+  mapper->SliceFacesCameraOn();
+  mapper->SliceAtFocalPointOn();
+  mapper->BorderOn();
+  vtkNew<vtkImageSlice> slice;
+  slice->SetMapper(mapper);
+  slice->GetProperty()->SetColorWindow(150);
+  slice->GetProperty()->SetColorLevel(120);
+  slice->GetProperty()->SetInterpolationTypeToNearest();
+  auto spheres = SpheresThroughThePlane(0.0);
+  // View directions (data coordinates) whose largest component is x, but whose z component
+  // weighed by the spacing (0.3 against 0.25) would win; and one mostly along y.
+  for (const auto& direction : { std::array<double, 3>{ 1.0, 0.1, 0.9 },
+         std::array<double, 3>{ 0.3, -1.0, 0.5 } })
+  {
+    ExpectAgreement(Compare(slice, spheres, false,
+                      [direction](vtkCamera* camera)
+                      {
+                        camera->SetFocalPoint(0.3, 0.1, 0.2);
+                        camera->SetPosition(0.3 + 8 * direction[0], 0.1 + 8 * direction[1],
+                          0.2 + 8 * direction[2]);
+                        camera->SetViewUp(0, 0, 1);
+                        camera->OrthogonalizeViewUp();
+                      }),
+      direction[1] > 0 ? "facing the camera, mostly along x" : "facing the camera, along y", 1000);
+  }
 }
 
 TEST(ImageSlices, NamesWhatItCannotDraw)

@@ -140,6 +140,21 @@ Comparison Compare(vtkImageSlice* slice, vtkActor* spheres, bool parallel,
   return result;
 }
 
+// A slice of `volume` drawn by a vtkImageSliceMapper (returned in `mapper` to configure),
+// with this window and level.
+vtkSmartPointer<vtkImageSlice> SliceOf(
+  vtkImageData* volume, double window, double level, vtkImageSliceMapper*& mapper)
+{
+  auto sliceMapper = vtkSmartPointer<vtkImageSliceMapper>::New();
+  sliceMapper->SetInputData(volume);
+  auto slice = vtkSmartPointer<vtkImageSlice>::New();
+  slice->SetMapper(sliceMapper);
+  slice->GetProperty()->SetColorWindow(window);
+  slice->GetProperty()->SetColorLevel(level);
+  mapper = sliceMapper;
+  return slice;
+}
+
 vtkSmartPointer<vtkActor> SpheresThroughThePlane(double z)
 {
   auto mapper = vtkSmartPointer<vtkSightlineSphereMapper>::New();
@@ -174,15 +189,11 @@ void ExpectAgreement(const Comparison& c, const char* what, int minimumPlanePixe
 TEST(ImageSlices, WindowLevelNearestMatchesTheWindow)
 {
   auto volume = MakeVolume();
-  vtkNew<vtkImageSliceMapper> mapper;
-  mapper->SetInputData(volume);
+  vtkImageSliceMapper* mapper = nullptr;
+  auto slice = SliceOf(volume, 120, 130, mapper);
   mapper->SetOrientationToZ();
   mapper->SetSliceNumber(3); // z = 0.15
   mapper->BorderOn();
-  vtkNew<vtkImageSlice> slice;
-  slice->SetMapper(mapper);
-  slice->GetProperty()->SetColorWindow(120);
-  slice->GetProperty()->SetColorLevel(130);
   slice->GetProperty()->SetInterpolationTypeToNearest();
   auto spheres = SpheresThroughThePlane(0.15);
   for (const bool parallel : { false, true })
@@ -200,19 +211,15 @@ TEST(ImageSlices, WindowLevelNearestMatchesTheWindow)
 TEST(ImageSlices, LookupTableLinearObliqueMatchesTheWindow)
 {
   auto volume = MakeVolume();
-  vtkNew<vtkImageSliceMapper> mapper;
-  mapper->SetInputData(volume);
+  vtkImageSliceMapper* mapper = nullptr;
+  auto slice = SliceOf(volume, 150, 120, mapper);
   mapper->SetOrientationToZ();
   mapper->SetSliceNumber(2); // z = -0.15 in data coordinates
   mapper->BorderOff();
   vtkNew<vtkLookupTable> table;
   table->SetHueRange(0.66, 0.0);
   table->Build();
-  vtkNew<vtkImageSlice> slice;
-  slice->SetMapper(mapper);
   slice->GetProperty()->SetLookupTable(table);
-  slice->GetProperty()->SetColorWindow(150);
-  slice->GetProperty()->SetColorLevel(120);
   slice->GetProperty()->SetInterpolationTypeToLinear();
   slice->SetOrientation(25, -10, 5); // an oblique plane, as a NIfTI affine gives
   slice->SetPosition(0.1, -0.2, 0.3);
@@ -229,17 +236,13 @@ TEST(ImageSlices, LookupTableLinearObliqueMatchesTheWindow)
 TEST(ImageSlices, CroppedSagittalAndTranslucentMatchTheWindow)
 {
   auto volume = MakeVolume();
-  vtkNew<vtkImageSliceMapper> mapper;
-  mapper->SetInputData(volume);
+  vtkImageSliceMapper* mapper = nullptr;
+  auto slice = SliceOf(volume, 150, 120, mapper);
   mapper->SetOrientationToX();
   mapper->SetSliceNumber(8); // x = 0
   mapper->CroppingOn();
   mapper->SetCroppingRegion(0, 15, 2, 9, 1, 5);
   mapper->BorderOn();
-  vtkNew<vtkImageSlice> slice;
-  slice->SetMapper(mapper);
-  slice->GetProperty()->SetColorWindow(150);
-  slice->GetProperty()->SetColorLevel(120);
   slice->GetProperty()->SetInterpolationTypeToNearest();
   auto spheres = SpheresThroughThePlane(0.0);
   auto aim = [](vtkCamera* camera)
@@ -261,15 +264,11 @@ TEST(ImageSlices, SliceFacingTheCameraAtTheFocalPointMatchesTheWindow)
   // at render time; the GL-free path must pick the same ones. The spacing is anisotropic, so an
   // axis weighed by its spacing would pick another one.
   auto volume = MakeVolume();
-  vtkNew<vtkImageSliceMapper> mapper;
-  mapper->SetInputData(volume);
+  vtkImageSliceMapper* mapper = nullptr;
+  auto slice = SliceOf(volume, 150, 120, mapper);
   mapper->SliceFacesCameraOn();
   mapper->SliceAtFocalPointOn();
   mapper->BorderOn();
-  vtkNew<vtkImageSlice> slice;
-  slice->SetMapper(mapper);
-  slice->GetProperty()->SetColorWindow(150);
-  slice->GetProperty()->SetColorLevel(120);
   slice->GetProperty()->SetInterpolationTypeToNearest();
   auto spheres = SpheresThroughThePlane(0.0);
   // View directions (data coordinates) whose largest component is x, but whose z component

@@ -2,6 +2,7 @@
 #include "SightlineTRXFormat.h"
 
 #include "SightlineReaderInput.h"
+#include "sightline/math/Half.h"
 
 #include "vtkDataArray.h"
 #include "vtkType.h"
@@ -179,68 +180,6 @@ bool ParseMemberName(const std::string& path, MemberName& name, std::string& err
   return true;
 }
 
-float HalfToFloat(std::uint16_t half)
-{
-  const std::uint32_t sign = static_cast<std::uint32_t>(half & 0x8000u) << 16;
-  const std::uint32_t exponent = (half >> 10) & 0x1Fu;
-  const std::uint32_t mantissa = half & 0x3FFu;
-  float magnitude;
-  if (exponent == 0)
-  {
-    magnitude = std::ldexp(static_cast<float>(mantissa), -24); // zero and subnormals
-  }
-  else if (exponent == 31)
-  {
-    magnitude = mantissa ? std::numeric_limits<float>::quiet_NaN()
-                         : std::numeric_limits<float>::infinity();
-  }
-  else
-  {
-    magnitude = std::ldexp(static_cast<float>(mantissa | 0x400u), static_cast<int>(exponent) - 25);
-  }
-  std::uint32_t bits;
-  std::memcpy(&bits, &magnitude, 4);
-  bits |= sign;
-  float value;
-  std::memcpy(&value, &bits, 4);
-  return value;
-}
-
-std::uint16_t FloatToHalf(float value)
-{
-  std::uint32_t bits;
-  std::memcpy(&bits, &value, 4);
-  const std::uint16_t sign = static_cast<std::uint16_t>((bits >> 16) & 0x8000u);
-  const float magnitude = std::fabs(value);
-  if (std::isnan(value))
-  {
-    return static_cast<std::uint16_t>(sign | 0x7E00u);
-  }
-  if (magnitude >= 65520.0f) // rounds past the largest half, 65504
-  {
-    return static_cast<std::uint16_t>(sign | 0x7C00u);
-  }
-  int exponent;
-  std::frexp(magnitude, &exponent); // magnitude = f * 2^exponent, f in [0.5, 1)
-  // Halves below 2^-14 are subnormal: a fixed step of 2^-24. Otherwise 10 bits after the point.
-  const int step = exponent - 1 < -14 ? -24 : exponent - 11;
-  // rint rounds half to even in the default rounding mode; scaling by 2^-step is exact.
-  const float units = std::rint(std::ldexp(magnitude, -step));
-  const float rounded = std::ldexp(units, step);
-  if (rounded == 0.0f)
-  {
-    return sign;
-  }
-  int e;
-  const float f = std::frexp(rounded, &e);
-  if (e - 1 < -14)
-  {
-    return static_cast<std::uint16_t>(sign | static_cast<std::uint16_t>(units));
-  }
-  const std::uint16_t fraction = static_cast<std::uint16_t>(std::ldexp(f, 11)) & 0x3FFu;
-  return static_cast<std::uint16_t>(sign | ((e - 1 + 15) << 10) | fraction);
-}
-
 void ConvertRows(
   const char* bytes, DType type, std::size_t values, vtkDataArray* array, std::size_t firstValue)
 {
@@ -284,7 +223,7 @@ void ConvertRows(
       {
         std::uint16_t half;
         std::memcpy(&half, bytes + 2 * i, 2);
-        out[i] = HalfToFloat(half);
+        out[i] = sightline::halfToFloat(half);
       }
       break;
     }

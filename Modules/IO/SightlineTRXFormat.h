@@ -54,11 +54,6 @@ struct MemberName
 };
 bool ParseMemberName(const std::string& path, MemberName& name, std::string& error);
 
-/// IEEE 754 binary16 <-> binary32: every half is exact as a float; floats round to nearest even
-/// (beyond 65504 they become infinite).
-float HalfToFloat(std::uint16_t half);
-std::uint16_t FloatToHalf(float value);
-
 /// Appends `count` rows of `bytes` (little-endian values of `type`) to `array` (of VTKType(type)
 /// and as many components as the rows have), from tuple `firstTuple` on.
 void ConvertRows(const char* bytes, DType type, std::size_t values, vtkDataArray* array,

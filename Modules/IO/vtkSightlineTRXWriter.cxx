@@ -14,6 +14,7 @@
 #include "SightlineReaderInput.h"
 #include "SightlineTRXArchive.h"
 #include "SightlineTRXFormat.h"
+#include "sightline/math/Half.h"
 
 #include <cmath>
 #include <cstdio>
@@ -287,10 +288,10 @@ void vtkSightlineTRXWriter::WriteData()
       {
         return out.Add(f, sizeof f);
       }
-      const std::uint16_t h[3] = { FloatToHalf(f[0]), FloatToHalf(f[1]), FloatToHalf(f[2]) };
+      const std::uint16_t h[3] = { sightline::floatToHalf(f[0]), sightline::floatToHalf(f[1]), sightline::floatToHalf(f[2]) };
       for (int c = 0; c < 3; ++c)
       {
-        if (std::isfinite(p[c]) && !std::isfinite(HalfToFloat(h[c])))
+        if (std::isfinite(p[c]) && !std::isfinite(sightline::halfToFloat(h[c])))
         {
           finite = false;
           error = "point " + std::to_string(id) + " is beyond float16's range (65504): write float32 positions";

@@ -254,7 +254,20 @@ sightline::dvec3 ToLocalFrame(
       upper = glm::max(upper, p);
     }
   }
-  const sightline::dvec3 origin = lower.x <= upper.x ? 0.5 * lower + 0.5 * upper : sightline::dvec3(0.0);
+  sightline::dvec3 origin(0.0);
+  if (lower.x <= upper.x)
+  {
+    // The centre, rounded to a multiple of a power of two near 1/64 of the extent: as near the
+    // centre as precision needs, and with few bits, so that the origin is a float and float16
+    // files' positions keep exact float16 offsets (compact tube chunks, sightline::TubeSet).
+    origin = 0.5 * lower + 0.5 * upper;
+    const double extent = std::max({ upper.x - lower.x, upper.y - lower.y, upper.z - lower.z });
+    if (extent > 0.0 && std::isfinite(extent))
+    {
+      const double step = std::exp2(std::floor(std::log2(extent / 64.0)));
+      origin = step * glm::round(origin / step);
+    }
+  }
   local.resize(world.size());
   for (std::size_t i = 0; i < world.size(); ++i)
   {

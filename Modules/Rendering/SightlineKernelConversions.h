@@ -75,7 +75,8 @@ PointOrCellColors ColorsByPointOrCell(vtkMapper* mapper, vtkDataSet* input);
 void WarnAboutReport(vtkObject* reporter, const sightline::ValidationReport& report);
 
 /// Positions handed to a kernel set: the origin (in double) is the centre of the finite
-/// positions' bounding box, and `local` holds each position relative to it as floats, so the
+/// positions' bounding box (rounded to a multiple of a power of two near 1/64 of its extent,
+/// so that it is a float with few bits: compact tube chunks rely on it), and `local` holds each position relative to it as floats, so the
 /// set keeps float precision relative to its own extent wherever the data sit in the world
 /// (the kernel intersects each primitive in its own frame with double rays). Non-finite
 /// positions stay non-finite, so the kernel drops and reports them as before.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -130,6 +131,24 @@ TubeSet::TubeSet(const std::vector<vec3>& points, const std::vector<float>& radi
   TubeLayout layout)
   : Layout(layout)
 {
+  construct(points, radii, predecessors, colors);
+}
+
+TubeSet::TubeSet(const dvec3& origin, const std::vector<vec3>& points, const std::vector<float>& radii,
+  const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors,
+  TubeLayout layout)
+  : Layout(layout)
+{
+  // Before the chunks are built: a compact chunk may anchor at the world origin (-Origin).
+  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
+    throw std::invalid_argument("sightline::TubeSet: the origin must be finite");
+  Origin = origin;
+  construct(points, radii, predecessors, colors);
+}
+
+void TubeSet::construct(const std::vector<vec3>& points, const std::vector<float>& radii,
+  const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors)
+{
   const std::size_t n = points.size();
   if (radii.size() != n || predecessors.size() != n)
     throw std::invalid_argument("sightline::TubeSet: " + std::to_string(radii.size()) + " radii and " +
@@ -228,19 +247,6 @@ TubeSet::TubeSet(const std::vector<vec3>& points, const std::vector<float>& radi
   NodeCount = Nodes.size();
   if (Layout.primitives == TubeLayout::Primitives::Chunked)
     buildChunks();
-  for (unsigned i = 0; i < size(); ++i)
-    AllBounds.extend(bounds(i));
-}
-
-TubeSet::TubeSet(const dvec3& origin, const std::vector<vec3>& points, const std::vector<float>& radii,
-  const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors,
-  TubeLayout layout)
-  : TubeSet(points, radii, predecessors, colors, layout)
-{
-  if (!(std::isfinite(origin.x) && std::isfinite(origin.y) && std::isfinite(origin.z)))
-    throw std::invalid_argument("sightline::TubeSet: the origin must be finite");
-  Origin = origin;
-  AllBounds = Box3{};
   for (unsigned i = 0; i < size(); ++i)
     AllBounds.extend(bounds(i));
 }
@@ -378,7 +384,8 @@ void TubeSet::buildChunks()
   Nodes = {};
   Predecessors = {};
   Chunked = true;
-  Positions.reserve(nodes.size());
+  NodeCount = 0;
+  ReserveHint = nodes.size();
   for (std::size_t i = 0; i < nodes.size(); ++i)
     appendChunkNode(vec3(nodes[i]), nodes[i].w, predecessors[i]);
   finishChunks();
@@ -387,7 +394,7 @@ void TubeSet::buildChunks()
 void TubeSet::appendChunkNode(const vec3& position, float radius, std::int32_t predecessor)
 {
   // While building, the chunk tables hold one entry per chunk; the last chunk is open.
-  const std::uint32_t node = std::uint32_t(Positions.size());
+  const std::uint32_t node = std::uint32_t(NodeCount);
   const bool joins = !ChunkStarts.empty() && predecessor == std::int32_t(node) - 1 &&
     node - ChunkStarts.back() < Layout.chunkSize;
   if (!joins)
@@ -397,12 +404,75 @@ void TubeSet::appendChunkNode(const vec3& position, float radius, std::int32_t p
     ChunkPredecessors.push_back(predecessor);
     RadiusStarts.push_back(std::uint32_t(Radii.size()));
   }
-  Positions.push_back(position);
+  OpenPositions.push_back(position);
   Radii.push_back(radius);
+  ++NodeCount;
+}
+
+void TubeSet::storeOpenPositions()
+{
+  if (OpenPositions.empty())
+    return;
+  // Per axis, the first anchor from which every position comes back exactly as anchor + the
+  // float16 nearest its offset: the chunk's first point (offsets within a chunk are small),
+  // the world origin in the set's frame (then the offsets are the world positions: exact for
+  // float16 files when Origin is a float, see SightlineKernelConversions::ToLocalFrame), zero.
+  vec3 anchor(0.0f);
+  // Compact costs 6 bytes a node and 12 for the anchor: less than 12 a node from 3 nodes on.
+  bool compact = OpenPositions.size() > 2;
+  for (int axis = 0; axis < 3 && compact; ++axis)
+  {
+    const float world = float(-Origin[axis]);
+    const float candidates[3] = { OpenPositions.front()[axis], double(world) == -Origin[axis] ? world : 0.0f, 0.0f };
+    compact = false;
+    for (float a : candidates)
+    {
+      compact = std::all_of(OpenPositions.begin(), OpenPositions.end(),
+        [&](const vec3& p) { return a + halfToFloat(floatToHalf(p[axis] - a)) == p[axis]; });
+      if (compact)
+      {
+        anchor[axis] = a;
+        break;
+      }
+    }
+  }
+  // A size() past the top bit would be taken for a compact chunk's start.
+  auto start = [](std::size_t index)
+  {
+    if (index >= kCompactChunk)
+      throw std::length_error("sightline::TubeSet: more chunk positions than 2^31 entries");
+    return std::uint32_t(index);
+  };
+  auto reserve = [&](auto& v, std::size_t entries)
+  {
+    if (v.empty() && ReserveHint > 0)
+      v.reserve(entries);
+  };
+  if (compact)
+  {
+    reserve(Compact, ReserveHint + 2 * (ReserveHint / Layout.chunkSize + 1));
+    PositionStarts.push_back(kCompactChunk | start(Compact.size()));
+    Half3 bits[2];
+    static_assert(sizeof(bits) == sizeof(vec3), "an anchor is two entries");
+    std::memcpy(bits, &anchor, sizeof(bits));
+    Compact.push_back(bits[0]);
+    Compact.push_back(bits[1]);
+    for (const vec3& p : OpenPositions)
+      Compact.push_back(Half3{ { floatToHalf(p.x - anchor.x), floatToHalf(p.y - anchor.y),
+        floatToHalf(p.z - anchor.z) } });
+  }
+  else
+  {
+    reserve(Wide, ReserveHint);
+    PositionStarts.push_back(start(Wide.size()));
+    Wide.insert(Wide.end(), OpenPositions.begin(), OpenPositions.end());
+  }
+  OpenPositions.clear();
 }
 
 void TubeSet::closeChunk()
 {
+  storeOpenPositions();
   if (RadiusStarts.empty())
     return;
   const std::size_t r = RadiusStarts.back();
@@ -414,9 +484,10 @@ void TubeSet::closeChunk()
 void TubeSet::finishChunks()
 {
   closeChunk();
-  ChunkStarts.push_back(std::uint32_t(Positions.size()));
+  ChunkStarts.push_back(std::uint32_t(NodeCount));
   RadiusStarts.push_back(std::uint32_t(Radii.size()));
-  NodeCount = Positions.size();
+  OpenPositions = {};
+  ReserveHint = 0;
   // Vectors grown by push_back hold up to twice their size: give the slack back. Per-node
   // vectors are the large ones (12 GB of positions at 10^9 links), whose copy would double the
   // peak: those only where the slack is large (a builder reserves them).
@@ -425,13 +496,54 @@ void TubeSet::finishChunks()
     if (v.capacity() > v.size() + v.size() / 8)
       v.shrink_to_fit();
   };
-  trim(Positions);
+  trim(Compact);
+  trim(Wide);
   trim(Colors);
   trim(SourceIndex);
   Radii.shrink_to_fit();
   ChunkStarts.shrink_to_fit();
   ChunkPredecessors.shrink_to_fit();
   RadiusStarts.shrink_to_fit();
+  PositionStarts.shrink_to_fit();
+}
+
+std::size_t TubeSet::compactChunkCount() const
+{
+  return std::size_t(std::count_if(PositionStarts.begin(), PositionStarts.end(),
+    [](std::uint32_t start) { return (start & kCompactChunk) != 0; }));
+}
+
+TubeSet::ChunkPoints TubeSet::pointsOf(unsigned chunk) const
+{
+  ChunkPoints points;
+  const std::uint32_t start = PositionStarts[chunk];
+  if (start & kCompactChunk)
+  {
+    const Half3* entries = Compact.data() + (start & ~kCompactChunk);
+    std::memcpy(&points.anchor, entries, sizeof(vec3));
+    points.offsets = entries + 2;
+  }
+  else
+    points.wide = Wide.data() + start;
+  return points;
+}
+
+bool TubeSet::chunkStart(unsigned chunk, vec4& start) const
+{
+  const std::int32_t first = ChunkPredecessors[chunk];
+  if (first < 0)
+    return false;
+  if (chunk > 0 && std::uint32_t(first) + 1 == ChunkStarts[chunk])
+  {
+    // The previous chunk's last node: a tube going on (the usual case, no search).
+    const std::uint32_t begin = ChunkStarts[chunk - 1];
+    const std::uint32_t r = RadiusStarts[chunk - 1], count = RadiusStarts[chunk] - r;
+    start = vec4(pointsOf(chunk - 1)[std::uint32_t(first) - begin],
+      Radii[count == 1 ? r : r + std::uint32_t(first) - begin]);
+  }
+  else
+    start = nodeAt(std::uint32_t(first));
+  return true;
 }
 
 std::uint32_t TubeSet::chunkOf(std::uint32_t node) const
@@ -445,22 +557,22 @@ vec4 TubeSet::nodeAt(std::uint32_t node) const
     return Nodes[node];
   const std::uint32_t chunk = chunkOf(node);
   const std::uint32_t r = RadiusStarts[chunk], count = RadiusStarts[chunk + 1] - r;
-  return vec4(Positions[node], Radii[count == 1 ? r : r + node - ChunkStarts[chunk]]);
+  return vec4(pointsOf(chunk)[node - ChunkStarts[chunk]], Radii[count == 1 ? r : r + node - ChunkStarts[chunk]]);
 }
 
 namespace
 {
 /// Calls visit(node, its point and radius, its predecessor's or null) for each link of a chunk.
-template <class Visit>
-void forEachChunkLink(const std::vector<vec3>& positions, const std::vector<float>& radii,
-  std::uint32_t begin, std::uint32_t end, std::int32_t first, std::uint32_t radiusStart,
+template <class Points, class Visit>
+void forEachChunkLink(const Points& positions, const std::vector<float>& radii,
+  std::uint32_t begin, std::uint32_t end, bool linked, std::uint32_t radiusStart,
   bool constant, const vec4& start, Visit&& visit)
 {
   vec4 previous = start;
   for (std::uint32_t node = begin; node < end; ++node)
   {
-    const vec4 point(positions[node], radii[constant ? radiusStart : radiusStart + node - begin]);
-    visit(node, point, node > begin || first >= 0 ? &previous : nullptr);
+    const vec4 point(positions[node - begin], radii[constant ? radiusStart : radiusStart + node - begin]);
+    visit(node, point, node > begin || linked ? &previous : nullptr);
     previous = point;
   }
 }
@@ -469,16 +581,17 @@ void forEachChunkLink(const std::vector<vec3>& positions, const std::vector<floa
 Box3 TubeSet::chunkBounds(unsigned chunk) const
 {
   const std::uint32_t begin = ChunkStarts[chunk], end = ChunkStarts[chunk + 1];
-  const std::int32_t first = ChunkPredecessors[chunk];
   // A link's stump lies in the hull of its spheres: the boxes of the chunk's spheres and of
   // its first link's start hold all its links.
   Box3 box;
-  if (first >= 0)
-    box.extend(sphereBox(nodeAt(std::uint32_t(first))));
+  vec4 start;
+  if (chunkStart(chunk, start))
+    box.extend(sphereBox(start));
   const std::uint32_t r = RadiusStarts[chunk];
   const bool constant = RadiusStarts[chunk + 1] - r == 1;
+  const ChunkPoints points = pointsOf(chunk);
   for (std::uint32_t node = begin; node < end; ++node)
-    box.extend(sphereBox(vec4(Positions[node], Radii[constant ? r : r + node - begin])));
+    box.extend(sphereBox(vec4(points[node - begin], Radii[constant ? r : r + node - begin])));
   return padAndPlace(box, Origin);
 }
 
@@ -487,10 +600,11 @@ bool TubeSet::intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& h
   // The nearest surface over the chunk's links, each tested as a combined primitive is.
   const double tmax = std::min(ray.tfar, 1e300);
   NearestPart nearest{ ray.origin - Origin, ray.direction, ray.tnear, tmax };
-  const std::int32_t first = ChunkPredecessors[chunk];
+  vec4 start(0.0f);
+  const bool linked = chunkStart(chunk, start);
   const std::uint32_t r = RadiusStarts[chunk];
-  forEachChunkLink(Positions, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], first, r,
-    RadiusStarts[chunk + 1] - r == 1, first >= 0 ? nodeAt(std::uint32_t(first)) : vec4(0.0f),
+  forEachChunkLink(pointsOf(chunk), Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
+    RadiusStarts[chunk + 1] - r == 1, start,
     [&](std::uint32_t node, const vec4& point, const vec4* start)
     {
       if (linkMissed(nearest.o, nearest.d, nearest.tmin, nearest.best, start ? *start : point, point))
@@ -505,10 +619,11 @@ bool TubeSet::intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& h
 void TubeSet::chunkIntervals(unsigned chunk, const DoubleRay& ray, std::vector<InsideInterval>& out) const
 {
   const dvec3 o = ray.origin - Origin, d = ray.direction;
-  const std::int32_t first = ChunkPredecessors[chunk];
+  vec4 start(0.0f);
+  const bool linked = chunkStart(chunk, start);
   const std::uint32_t r = RadiusStarts[chunk];
-  forEachChunkLink(Positions, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], first, r,
-    RadiusStarts[chunk + 1] - r == 1, first >= 0 ? nodeAt(std::uint32_t(first)) : vec4(0.0f),
+  forEachChunkLink(pointsOf(chunk), Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
+    RadiusStarts[chunk + 1] - r == 1, start,
     [&](std::uint32_t node, const vec4& point, const vec4* start)
     {
       if (linkMissed(o, d, -1e300, 1e300, start ? *start : point, point))
@@ -526,7 +641,8 @@ std::size_t TubeSet::memoryBytes() const
   return Nodes.capacity() * sizeof(vec4) + Predecessors.capacity() * sizeof(std::int32_t) +
     StumpEnds.capacity() * sizeof(std::uint32_t) + Stumps.capacity() * sizeof(StoredStump) +
     Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t) +
-    Positions.capacity() * sizeof(vec3) + Radii.capacity() * sizeof(float) +
+    Compact.capacity() * sizeof(Half3) + Wide.capacity() * sizeof(vec3) +
+    PositionStarts.capacity() * sizeof(std::uint32_t) + Radii.capacity() * sizeof(float) +
     ChunkStarts.capacity() * sizeof(std::uint32_t) +
     ChunkPredecessors.capacity() * sizeof(std::int32_t) +
     RadiusStarts.capacity() * sizeof(std::uint32_t);
@@ -552,7 +668,8 @@ TubeRunBuilder::TubeRunBuilder(const dvec3& origin, unsigned chunkSize, bool wit
 
 void TubeRunBuilder::reserve(std::size_t points)
 {
-  Set->Positions.reserve(points);
+  Set->ReserveHint = points; // the positions reserve when their first chunk is stored
+  Set->PositionStarts.reserve(points / Set->Layout.chunkSize + 1);
   Set->ChunkStarts.reserve(points / Set->Layout.chunkSize + 1);
   Set->ChunkPredecessors.reserve(points / Set->Layout.chunkSize + 1);
   Set->RadiusStarts.reserve(points / Set->Layout.chunkSize + 1);
@@ -584,14 +701,14 @@ void TubeRunBuilder::addRun(
           " has a non-finite position or a negative or non-finite radius (first of the points "
           "dropped for this reason, with their links)");
         // Kept nodes so far are the points given so far, in order.
-        SourceIndex.resize(set.Positions.size());
+        SourceIndex.resize(set.NodeCount);
         for (std::size_t k = 0; k < SourceIndex.size(); ++k)
           SourceIndex[k] = std::uint32_t(k);
       }
       linked = false;
       continue;
     }
-    const std::int32_t node = std::int32_t(set.Positions.size());
+    const std::int32_t node = std::int32_t(set.NodeCount);
     set.appendChunkNode(points[i], radii[i], linked ? node - 1 : -1);
     set.Links += linked ? 1 : 0;
     if (colors)

@@ -22,6 +22,7 @@
 #pragma once
 
 #include "sightline/core/Geometry.h"
+#include "sightline/math/Half.h"
 #include "sightline/tubes/TubeLink.h"
 
 #include <cstdint>
@@ -101,6 +102,9 @@ public:
   std::size_t pointCount() const { return NodeCount; }
   std::size_t linkCount() const { return Links; }
   const ValidationReport& report() const { return Report; }
+  /// Chunked layout: how many chunks hold their positions as float16 offsets (6 bytes a node)
+  /// rather than floats (12): those of three nodes or more whose offsets are exact.
+  std::size_t compactChunkCount() const;
   /// For picking: the kept control point whose link (from its predecessor) and end sphere a
   /// primitive draws, that point's predecessor (a kept index, or -1 where a tube starts), and
   /// its index among the points given to the constructor.
@@ -125,6 +129,35 @@ public:
 private:
   friend class TubeRunBuilder;
   TubeSet() = default;
+  /// What both public constructors do, once Origin is set.
+  void construct(const std::vector<vec3>& points, const std::vector<float>& radii,
+    const std::vector<std::int64_t>& predecessors, const std::vector<std::uint32_t>& colors);
+  /// Three halves: a compact chunk's position offset from its anchor.
+  struct Half3
+  {
+    std::uint16_t v[3];
+  };
+  /// Chunked layout: one chunk's positions, read in place (wide chunks) or decoded from the
+  /// anchor and float16 offsets (compact chunks) to the very floats they were built from.
+  struct ChunkPoints
+  {
+    const vec3* wide = nullptr;
+    const Half3* offsets = nullptr;
+    vec3 anchor{ 0.0f };
+    vec3 operator[](std::uint32_t i) const
+    {
+      if (wide)
+        return wide[i];
+      const Half3& h = offsets[i];
+      return anchor + vec3(halfToFloat(h.v[0]), halfToFloat(h.v[1]), halfToFloat(h.v[2]));
+    }
+  };
+  ChunkPoints pointsOf(unsigned chunk) const;
+  /// Chunked layout: the node a chunk's first link starts from (position, radius), read without
+  /// a search where it is the previous chunk's last node; false where the chunk starts a tube.
+  bool chunkStart(unsigned chunk, vec4& start) const;
+  /// Chunked layout: stores the open chunk's positions, compactly where that is exact.
+  void storeOpenPositions();
   /// Stump parameters in single precision (the precomputed layouts).
   struct StoredStump
   {
@@ -162,8 +195,17 @@ private:
   // Chunked layout (Nodes and Predecessors empty): node i of chunk c, ChunkStarts[c] <= i <
   // ChunkStarts[c + 1], links to i - 1, its first node to ChunkPredecessors[c]; its radii are
   // Radii[RadiusStarts[c] ...], one for the chunk when RadiusStarts[c + 1] - RadiusStarts[c] is 1.
+  // A chunk's positions are either "wide", Wide[PositionStarts[c] ...], or "compact" (the top
+  // bit of PositionStarts[c] set): Compact[s] and Compact[s + 1] hold the bits of the chunk's
+  // float anchor, then one float16 offset per node, for chunks where anchor + offset gives back
+  // every float position exactly (Documentation/tubes.md: float16 files always do).
   bool Chunked = false;
-  std::vector<vec3> Positions;
+  std::vector<Half3> Compact;
+  std::vector<vec3> Wide;
+  std::vector<std::uint32_t> PositionStarts; ///< one per chunk
+  std::vector<vec3> OpenPositions;           ///< building: the open chunk's positions
+  std::size_t ReserveHint = 0;               ///< building: points expected (TubeRunBuilder::reserve)
+  static constexpr std::uint32_t kCompactChunk = 0x80000000u;
   std::vector<float> Radii;
   std::vector<std::uint32_t> ChunkStarts;       ///< one per chunk, and the node count
   std::vector<std::int32_t> ChunkPredecessors;  ///< one per chunk

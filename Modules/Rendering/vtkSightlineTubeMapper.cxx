@@ -127,6 +127,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
 {
   this->NumberOfLinks = 0;
   this->BuiltLinkLayout = -1;
+  this->BuiltChunkLinks = 0;
   this->Streamed = StreamedRuns();
   if (this->PullsInputPieces())
   {
@@ -276,6 +277,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     layout.transforms = chosen % 2 == 1 && chosen != LINKS_CHUNKED
       ? sightline::TubeLayout::Transforms::Precomputed
       : sightline::TubeLayout::Transforms::OnTheFly;
+    layout.chunkSize = this->ChunkLinksFor(double(points.size()));
     std::vector<sightline::vec3> local;
     const sightline::dvec3 origin = SightlineKernelConversions::ToLocalFrame(points, local);
     // The double points are not needed past here: at 10^7 links they are 240 MB of the build's
@@ -286,6 +288,7 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     SightlineKernelConversions::WarnAboutReport(this, tubes->report());
     this->NumberOfLinks = static_cast<vtkIdType>(tubes->pointCount());
     this->BuiltLinkLayout = chosen;
+    this->BuiltChunkLinks = chosen == LINKS_CHUNKED ? static_cast<int>(layout.chunkSize) : 0;
     return tubes;
   }
   catch (const std::exception& e)
@@ -387,10 +390,12 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
           }
           origin = SightlineKernelConversions::ToLocalFrame(world, local);
           colored = !pieceColors.empty();
-          builder = std::make_unique<sightline::TubeRunBuilder>(
-            origin, sightline::TubeLayout::kDefaultChunkSize, colored);
           // Pieces of one reader hold about as many points each.
-          builder->reserve(static_cast<std::size_t>(1.05 * double(count) * pieces));
+          const double expected = 1.05 * double(count) * pieces;
+          this->BuiltChunkLinks = static_cast<int>(this->ChunkLinksFor(expected));
+          builder = std::make_unique<sightline::TubeRunBuilder>(
+            origin, static_cast<unsigned>(this->BuiltChunkLinks), colored);
+          builder->reserve(static_cast<std::size_t>(expected));
         }
         else
         {
@@ -557,6 +562,16 @@ void vtkSightlineTubeMapper::ComputeSelectionIds(
   }
 }
 
+unsigned vtkSightlineTubeMapper::ChunkLinksFor(double points) const
+{
+  if (this->ChunkLinks > 0)
+  {
+    return static_cast<unsigned>(this->ChunkLinks);
+  }
+  return points >= double(this->AutomaticLongChunkLinks) ? 16u : sightline::TubeLayout::kDefaultChunkSize;
+}
+
+//------------------------------------------------------------------------------
 const char* vtkSightlineTubeMapper::GetLinkLayoutAsString()
 {
   switch (this->LinkLayout)
@@ -618,6 +633,8 @@ void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LinkLayout: " << this->GetLinkLayoutAsString() << "\n";
   os << indent << "BuiltLinkLayout: " << this->BuiltLinkLayout << "\n";
   os << indent << "AutomaticChunkedLinks: " << this->AutomaticChunkedLinks << "\n";
+  os << indent << "ChunkLinks: " << this->ChunkLinks << "\n";
+  os << indent << "AutomaticLongChunkLinks: " << this->AutomaticLongChunkLinks << "\n";
   os << indent << "NumberOfLinks: " << this->NumberOfLinks << "\n";
   os << indent << "StreamedPieces: " << this->StreamedPieces << "\n";
 }

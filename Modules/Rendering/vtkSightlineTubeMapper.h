@@ -38,13 +38,14 @@
  * selected at their nearest surface.
  *
  * LinkLayout picks one of the paper's four implementation choices (Table 1) or the chunked
- * layout (runs of up to 8 consecutive links as one BVH primitive, for tractograms of 10^8
- * links and more); they draw the same image and differ in memory and speed (see
+ * layout (runs of up to ChunkLinks consecutive links as one BVH primitive, for tractograms of
+ * 10^7 links and more); they draw the same image and differ in memory and speed (see
  * Benchmarks/README.md and Documentation/tubes.md). The default, LINKS_AUTOMATIC, takes
  * combined links with stumps computed on the fly (20 bytes per link plus ~94 of BVH; the
  * fastest or within 5 % of it) below AutomaticChunkedLinks control points, and chunked links
- * (13.5 bytes per link with one radius per tube, 17.5 with varying radii, plus ~9 of Embree's compact BVH;
- * frames about 1.8 times slower) from there on, where memory is what limits.
+ * (8-link chunks: 11 bytes per link from float16 files, 15 from float32 ones, plus ~9 of
+ * Embree's compact BVH; frames about 2 to 3 times slower) from there on, where memory is what
+ * limits, and 16-link chunks from AutomaticLongChunkLinks points.
  *
  * Streaming (StreamedPieces > 1): for tractograms whose poly data would not fit beside their
  * tubes, the mapper asks its input's producer for pieces 0 to StreamedPieces - 1 of its output
@@ -130,7 +131,7 @@ public:
     LINKS_COMBINED_PRECOMPUTED,
     LINKS_SEPARATE_ON_THE_FLY,
     LINKS_SEPARATE_PRECOMPUTED,
-    LINKS_CHUNKED,  ///< up to 8 consecutive links of a tube per BVH primitive
+    LINKS_CHUNKED,  ///< up to ChunkLinks consecutive links of a tube per BVH primitive
     LINKS_AUTOMATIC ///< LINKS_CHUNKED from AutomaticChunkedLinks points, else combined
   };
 
@@ -141,6 +142,25 @@ public:
    */
   vtkSetClampMacro(AutomaticChunkedLinks, vtkIdType, 0, VTK_ID_MAX);
   vtkGetMacro(AutomaticChunkedLinks, vtkIdType);
+
+  ///@{
+  /**
+   * The most links a chunk holds (LINKS_CHUNKED). Default 0, automatic: 8 below
+   * AutomaticLongChunkLinks control points, 16 from there. Measured on a whole-brain
+   * tractogram of 10^7 links (Benchmarks/whole_brain.py): 8 links take 11.2 bytes per link
+   * plus 9.3 of BVH, 16 take 8.8 plus 4.9 at opaque frames 2.2 times as long, which a
+   * tractogram of 10^9 links needs to fit in 20 GB.
+   */
+  vtkSetClampMacro(ChunkLinks, int, 0, 64);
+  vtkGetMacro(ChunkLinks, int);
+  vtkSetClampMacro(AutomaticLongChunkLinks, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(AutomaticLongChunkLinks, vtkIdType);
+  ///@}
+
+  /**
+   * The most links a chunk held in the last chunked build (ChunkLinks resolved), 0 before any.
+   */
+  vtkGetMacro(BuiltChunkLinks, int);
 
   ///@{
   /**
@@ -217,6 +237,11 @@ protected:
   int LinkLayout = LINKS_AUTOMATIC;
   int BuiltLinkLayout = -1;
   vtkIdType AutomaticChunkedLinks = 10000000;
+  int ChunkLinks = 0;
+  vtkIdType AutomaticLongChunkLinks = 100000000;
+  int BuiltChunkLinks = 0;
+  /// ChunkLinks, or the automatic choice for a build of `points` control points.
+  unsigned ChunkLinksFor(double points) const;
   vtkIdType NumberOfLinks = 0;
   int StreamedPieces = 1;
 

@@ -251,8 +251,19 @@ TEST(TubeMapper, ChunkedLinksDrawTheSameNeuron)
   scene.renderer->ResetCamera();
   scene.window->Render();
   EXPECT_EQ(scene.mapper->GetBuiltLinkLayout(), vtkSightlineTubeMapper::LINKS_CHUNKED);
-  EXPECT_GT(CoveredPixels(CaptureRGB(scene.window)), 100);
+  EXPECT_EQ(scene.mapper->GetBuiltChunkLinks(), 8);
+  const auto eight = CaptureRGB(scene.window);
+  EXPECT_GT(CoveredPixels(eight), 100);
   EXPECT_STREQ(scene.mapper->GetLinkLayoutAsString(), "Automatic");
+  // Long chunks from AutomaticLongChunkLinks points, or as ChunkLinks says: the same tubes.
+  scene.mapper->SetAutomaticLongChunkLinks(5000);
+  scene.window->Render();
+  EXPECT_EQ(scene.mapper->GetBuiltChunkLinks(), 16);
+  EXPECT_LE(MaxRGBDifference(eight, CaptureRGB(scene.window)), 1);
+  scene.mapper->SetChunkLinks(3);
+  scene.window->Render();
+  EXPECT_EQ(scene.mapper->GetBuiltChunkLinks(), 3);
+  EXPECT_LE(MaxRGBDifference(eight, CaptureRGB(scene.window)), 1);
 }
 
 // Polylines in an unstructured grid (VTK_POLY_LINE cells) are the same tubes as in vtkPolyData:

@@ -104,20 +104,43 @@ struct NearestPart
 
 /// Whether the ray's line misses a link's bounding sphere (the link lies in the hull of its
 /// two spheres), or meets it only outside [tmin, tmax]: a cheap test that spares a chunk's
-/// links the exact sphere and stump tests. Padded well beyond double rounding: it only culls.
-bool linkMissed(const dvec3& o, const dvec3& d, double tmin, double tmax, const vec4& a, const vec4& b)
+/// links the exact sphere and stump tests, so it is free of square roots (the hot loop of
+/// chunked tubes): the sphere about the link's middle of radius |h| + r is enlarged to radius
+/// sqrt(2 (|h|^2 + r^2)), which holds it, and padded well beyond double rounding: it only culls.
+/// `inverseDD` is 1 / (d . d).
+inline bool linkMissed(const dvec3& o, const dvec3& d, double inverseDD, double tmin, double tmax,
+  const vec4& a, const vec4& b)
 {
   const dvec3 pa = dvec3(vec3(a)), pb = dvec3(vec3(b));
-  const dvec3 c = 0.5 * (pa + pb);
-  const dvec3 f = c - o;
-  const double dd = glm::dot(d, d), tc = glm::dot(f, d) / dd;
+  const dvec3 h = 0.5 * (pb - pa);
+  const dvec3 f = pa + h - o;
+  const double r = std::max(double(a.w), double(b.w));
+  const double ff = glm::dot(f, f);
+  const double reach2 = 2.0 * (glm::dot(h, h) + r * r) * (1.0 + 1e-8) + 1e-17 * ff + 1e-300;
+  const double tc = glm::dot(f, d) * inverseDD;
   const dvec3 off = f - tc * d;
-  double reach = 0.5 * glm::length(pb - pa) + std::max(double(a.w), double(b.w));
-  reach += 1e-9 * (reach + glm::length(f)) + 1e-300;
-  if (glm::dot(off, off) > reach * reach)
+  if (glm::dot(off, off) > reach2)
     return true;
-  const double half = reach / std::sqrt(dd);
-  return tc - half > tmax || tc + half < tmin;
+  // Along the ray the sphere spans tc +- reach / |d|.
+  const double before = tmin - tc, after = tc - tmax;
+  return (after > 0.0 && after * after > reach2 * inverseDD) ||
+    (before > 0.0 && before * before > reach2 * inverseDD);
+}
+
+/// Whether the ray's line passes farther than `reach` from the segment [p0, p1]: a chunk's
+/// capsule (closeChunk), which spares its links the culling tests of linkMissed.
+inline bool capsuleMissed(const dvec3& o, const dvec3& d, double inverseDD, const vec3& p0,
+  const vec3& p1, float reach)
+{
+  // Distances across the ray: the components perpendicular to d.
+  const dvec3 a = dvec3(p0), u = dvec3(p1) - a;
+  const dvec3 w = a - o;
+  const dvec3 wp = w - (glm::dot(w, d) * inverseDD) * d, up = u - (glm::dot(u, d) * inverseDD) * d;
+  const double uu = glm::dot(up, up);
+  const double s = uu > 0.0 ? std::clamp(-glm::dot(wp, up) / uu, 0.0, 1.0) : 0.0;
+  const dvec3 off = wp + s * up;
+  const double r = double(reach);
+  return glm::dot(off, off) > r * r * (1.0 + 1e-9);
 }
 
 ConeStump linkStump(const vec4& a, const vec4& b)
@@ -472,6 +495,31 @@ void TubeSet::storeOpenPositions()
 
 void TubeSet::closeChunk()
 {
+  if (!OpenPositions.empty())
+  {
+    // The capsule about the segment from the chunk's first to last node that holds all its
+    // spheres (its first link's start too) holds its links (each in the hull of its spheres).
+    const dvec3 p0 = dvec3(OpenPositions.front()), axis = dvec3(OpenPositions.back()) - p0;
+    const double length2 = glm::dot(axis, axis);
+    double reach = 0.0;
+    auto include = [&](const vec3& center, float radius)
+    {
+      const dvec3 w = dvec3(center) - p0;
+      const double s = length2 > 0.0 ? std::clamp(glm::dot(w, axis) / length2, 0.0, 1.0) : 0.0;
+      reach = std::max(reach, glm::length(w - s * axis) + double(radius));
+    };
+    const std::size_t r = RadiusStarts.back();
+    for (std::size_t i = 0; i < OpenPositions.size(); ++i)
+      include(OpenPositions[i], Radii[r + i]);
+    if (ChunkPredecessors.back() >= 0)
+    {
+      const vec4 start = nodeAt(std::uint32_t(ChunkPredecessors.back()));
+      include(vec3(start), start.w);
+    }
+    // Rounded up, and padded against the rounding of the test (linkMissed's padding).
+    reach += 1e-7 * (reach + std::sqrt(length2) + glm::length(p0)) + 1e-30;
+    ChunkReach.push_back(std::nextafter(float(reach), kInfinity));
+  }
   storeOpenPositions();
   if (RadiusStarts.empty())
     return;
@@ -505,6 +553,7 @@ void TubeSet::finishChunks()
   ChunkPredecessors.shrink_to_fit();
   RadiusStarts.shrink_to_fit();
   PositionStarts.shrink_to_fit();
+  ChunkReach.shrink_to_fit();
 }
 
 std::size_t TubeSet::compactChunkCount() const
@@ -600,14 +649,19 @@ bool TubeSet::intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& h
   // The nearest surface over the chunk's links, each tested as a combined primitive is.
   const double tmax = std::min(ray.tfar, 1e300);
   NearestPart nearest{ ray.origin - Origin, ray.direction, ray.tnear, tmax };
+  const double inverseDD = 1.0 / glm::dot(ray.direction, ray.direction);
+  const ChunkPoints points = pointsOf(chunk);
+  const std::uint32_t count = ChunkStarts[chunk + 1] - ChunkStarts[chunk];
+  if (capsuleMissed(nearest.o, nearest.d, inverseDD, points[0], points[count - 1], ChunkReach[chunk]))
+    return false;
   vec4 start(0.0f);
   const bool linked = chunkStart(chunk, start);
   const std::uint32_t r = RadiusStarts[chunk];
-  forEachChunkLink(pointsOf(chunk), Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
+  forEachChunkLink(points, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
     RadiusStarts[chunk + 1] - r == 1, start,
     [&](std::uint32_t node, const vec4& point, const vec4* start)
     {
-      if (linkMissed(nearest.o, nearest.d, nearest.tmin, nearest.best, start ? *start : point, point))
+      if (linkMissed(nearest.o, nearest.d, inverseDD, nearest.tmin, nearest.best, start ? *start : point, point))
         return;
       nearest.sphere(point, 2 * node);
       if (start)
@@ -619,14 +673,19 @@ bool TubeSet::intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& h
 void TubeSet::chunkIntervals(unsigned chunk, const DoubleRay& ray, std::vector<InsideInterval>& out) const
 {
   const dvec3 o = ray.origin - Origin, d = ray.direction;
+  const double inverseDD = 1.0 / glm::dot(d, d);
+  const ChunkPoints points = pointsOf(chunk);
+  const std::uint32_t count = ChunkStarts[chunk + 1] - ChunkStarts[chunk];
+  if (capsuleMissed(o, d, inverseDD, points[0], points[count - 1], ChunkReach[chunk]))
+    return;
   vec4 start(0.0f);
   const bool linked = chunkStart(chunk, start);
   const std::uint32_t r = RadiusStarts[chunk];
-  forEachChunkLink(pointsOf(chunk), Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
+  forEachChunkLink(points, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
     RadiusStarts[chunk + 1] - r == 1, start,
     [&](std::uint32_t node, const vec4& point, const vec4* start)
     {
-      if (linkMissed(o, d, -1e300, 1e300, start ? *start : point, point))
+      if (linkMissed(o, d, inverseDD, -1e300, 1e300, start ? *start : point, point))
         return;
       double t0, t1;
       if (sphereInterval(dvec3(vec3(point)), point.w, o, d, -1e300, 1e300, t0, t1))
@@ -642,7 +701,8 @@ std::size_t TubeSet::memoryBytes() const
     StumpEnds.capacity() * sizeof(std::uint32_t) + Stumps.capacity() * sizeof(StoredStump) +
     Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t) +
     Compact.capacity() * sizeof(Half3) + Wide.capacity() * sizeof(vec3) +
-    PositionStarts.capacity() * sizeof(std::uint32_t) + Radii.capacity() * sizeof(float) +
+    PositionStarts.capacity() * sizeof(std::uint32_t) + ChunkReach.capacity() * sizeof(float) +
+    Radii.capacity() * sizeof(float) +
     ChunkStarts.capacity() * sizeof(std::uint32_t) +
     ChunkPredecessors.capacity() * sizeof(std::int32_t) +
     RadiusStarts.capacity() * sizeof(std::uint32_t);
@@ -670,6 +730,7 @@ void TubeRunBuilder::reserve(std::size_t points)
 {
   Set->ReserveHint = points; // the positions reserve when their first chunk is stored
   Set->PositionStarts.reserve(points / Set->Layout.chunkSize + 1);
+  Set->ChunkReach.reserve(points / Set->Layout.chunkSize + 1);
   Set->ChunkStarts.reserve(points / Set->Layout.chunkSize + 1);
   Set->ChunkPredecessors.reserve(points / Set->Layout.chunkSize + 1);
   Set->RadiusStarts.reserve(points / Set->Layout.chunkSize + 1);

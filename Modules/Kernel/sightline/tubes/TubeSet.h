@@ -203,6 +203,9 @@ private:
   std::vector<Half3> Compact;
   std::vector<vec3> Wide;
   std::vector<std::uint32_t> PositionStarts; ///< one per chunk
+  /// One per chunk: the radius about the segment from its first to its last node that holds
+  /// the chunk (a ray missing that capsule misses every link).
+  std::vector<float> ChunkReach;
   std::vector<vec3> OpenPositions;           ///< building: the open chunk's positions
   std::size_t ReserveHint = 0;               ///< building: points expected (TubeRunBuilder::reserve)
   static constexpr std::uint32_t kCompactChunk = 0x80000000u;

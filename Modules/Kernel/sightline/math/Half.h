@@ -34,6 +34,42 @@ inline float halfToFloat(std::uint16_t half)
   return value;
 }
 
+/// Whether a float is exactly a finite half (bit tests only: the hot path of compact tubes'
+/// build).
+inline bool halfHolds(float value)
+{
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, 4);
+  const std::uint32_t magnitude = bits & 0x7FFFFFFFu;
+  if (magnitude == 0)
+    return true;
+  const int exponent = int(magnitude >> 23) - 127;
+  if (exponent > 15)
+    return false; // beyond 65504 (or infinite, NaN)
+  if (exponent >= -14)
+    return (magnitude & 0x1FFFu) == 0; // a normal half keeps 10 of the 23 fraction bits
+  if (exponent < -24)
+    return false;
+  // A subnormal half is a multiple of 2^-24: of 1.f * 2^exponent, -1 - exponent fraction bits
+  // lie below it.
+  return (magnitude & ((1u << (-1 - exponent)) - 1u)) == 0;
+}
+
+/// The half of a float that halfHolds (bit arithmetic; floatToHalf for any float).
+inline std::uint16_t halfOfExact(float value)
+{
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, 4);
+  const std::uint16_t sign = std::uint16_t((bits >> 16) & 0x8000u);
+  const std::uint32_t magnitude = bits & 0x7FFFFFFFu;
+  const int exponent = int(magnitude >> 23) - 127;
+  if (magnitude == 0)
+    return sign;
+  if (exponent >= -14)
+    return std::uint16_t(sign | std::uint32_t(exponent + 15) << 10 | ((magnitude >> 13) & 0x3FFu));
+  return std::uint16_t(sign | std::uint16_t(std::fabs(value) * 16777216.0f)); // units of 2^-24
+}
+
 /// The half nearest a float, ties to even; NaN stays NaN, beyond 65504 gives infinity.
 inline std::uint16_t floatToHalf(float value)
 {

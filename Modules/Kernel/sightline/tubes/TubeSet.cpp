@@ -451,7 +451,11 @@ void TubeSet::storeOpenPositions()
     for (float a : candidates)
     {
       compact = std::all_of(OpenPositions.begin(), OpenPositions.end(),
-        [&](const vec3& p) { return a + halfToFloat(floatToHalf(p[axis] - a)) == p[axis]; });
+        [&](const vec3& p)
+        {
+          const float offset = p[axis] - a;
+          return halfHolds(offset) && a + offset == p[axis];
+        });
       if (compact)
       {
         anchor[axis] = a;
@@ -481,8 +485,8 @@ void TubeSet::storeOpenPositions()
     Compact.push_back(bits[0]);
     Compact.push_back(bits[1]);
     for (const vec3& p : OpenPositions)
-      Compact.push_back(Half3{ { floatToHalf(p.x - anchor.x), floatToHalf(p.y - anchor.y),
-        floatToHalf(p.z - anchor.z) } });
+      Compact.push_back(Half3{ { halfOfExact(p.x - anchor.x), halfOfExact(p.y - anchor.y),
+        halfOfExact(p.z - anchor.z) } });
   }
   else
   {

@@ -386,7 +386,7 @@ std::uint32_t TubeSet::selectionIndex(unsigned primitive, std::uint32_t part) co
 {
   if (!Chunked)
     return primitive;
-  return part != SurfaceHit::kNoPart ? part / 2 : ChunkStarts[primitive];
+  return part != SurfaceHit::kNoPart ? part / 2 : Chunks[primitive].firstNode;
 }
 
 std::int32_t TubeSet::predecessorOf(std::uint32_t node) const
@@ -394,7 +394,7 @@ std::int32_t TubeSet::predecessorOf(std::uint32_t node) const
   if (!Chunked)
     return Predecessors[node];
   const std::uint32_t chunk = chunkOf(node);
-  return node == ChunkStarts[chunk] ? ChunkPredecessors[chunk] : std::int32_t(node) - 1;
+  return node == Chunks[chunk].firstNode ? Chunks[chunk].predecessor : std::int32_t(node) - 1;
 }
 
 void TubeSet::buildChunks()
@@ -418,14 +418,12 @@ void TubeSet::appendChunkNode(const vec3& position, float radius, std::int32_t p
 {
   // While building, the chunk tables hold one entry per chunk; the last chunk is open.
   const std::uint32_t node = std::uint32_t(NodeCount);
-  const bool joins = !ChunkStarts.empty() && predecessor == std::int32_t(node) - 1 &&
-    node - ChunkStarts.back() < Layout.chunkSize;
+  const bool joins = !Chunks.empty() && predecessor == std::int32_t(node) - 1 &&
+    node - Chunks.back().firstNode < Layout.chunkSize;
   if (!joins)
   {
     closeChunk();
-    ChunkStarts.push_back(node);
-    ChunkPredecessors.push_back(predecessor);
-    RadiusStarts.push_back(std::uint32_t(Radii.size()));
+    Chunks.push_back(ChunkEntry{ node, predecessor, std::uint32_t(Radii.size()), 0, 0.0f });
   }
   OpenPositions.push_back(position);
   Radii.push_back(radius);
@@ -478,7 +476,7 @@ void TubeSet::storeOpenPositions()
   if (compact)
   {
     reserve(Compact, ReserveHint + 2 * (ReserveHint / Layout.chunkSize + 1));
-    PositionStarts.push_back(kCompactChunk | start(Compact.size()));
+    Chunks.back().positions = kCompactChunk | start(Compact.size());
     Half3 bits[2];
     static_assert(sizeof(bits) == sizeof(vec3), "an anchor is two entries");
     std::memcpy(bits, &anchor, sizeof(bits));
@@ -491,7 +489,7 @@ void TubeSet::storeOpenPositions()
   else
   {
     reserve(Wide, ReserveHint);
-    PositionStarts.push_back(start(Wide.size()));
+    Chunks.back().positions = start(Wide.size());
     Wide.insert(Wide.end(), OpenPositions.begin(), OpenPositions.end());
   }
   OpenPositions.clear();
@@ -512,22 +510,22 @@ void TubeSet::closeChunk()
       const double s = length2 > 0.0 ? std::clamp(glm::dot(w, axis) / length2, 0.0, 1.0) : 0.0;
       reach = std::max(reach, glm::length(w - s * axis) + double(radius));
     };
-    const std::size_t r = RadiusStarts.back();
+    const std::size_t r = Chunks.back().firstRadius;
     for (std::size_t i = 0; i < OpenPositions.size(); ++i)
       include(OpenPositions[i], Radii[r + i]);
-    if (ChunkPredecessors.back() >= 0)
+    if (Chunks.back().predecessor >= 0)
     {
-      const vec4 start = nodeAt(std::uint32_t(ChunkPredecessors.back()));
+      const vec4 start = nodeAt(std::uint32_t(Chunks.back().predecessor));
       include(vec3(start), start.w);
     }
     // Rounded up, and padded against the rounding of the test (linkMissed's padding).
     reach += 1e-7 * (reach + std::sqrt(length2) + glm::length(p0)) + 1e-30;
-    ChunkReach.push_back(std::nextafter(float(reach), kInfinity));
+    Chunks.back().reach = std::nextafter(float(reach), kInfinity);
   }
   storeOpenPositions();
-  if (RadiusStarts.empty())
+  if (Chunks.empty())
     return;
-  const std::size_t r = RadiusStarts.back();
+  const std::size_t r = Chunks.back().firstRadius;
   if (Radii.size() > r + 1 &&
     std::all_of(Radii.begin() + std::ptrdiff_t(r), Radii.end(), [&](float v) { return v == Radii[r]; }))
     Radii.resize(r + 1);
@@ -536,8 +534,7 @@ void TubeSet::closeChunk()
 void TubeSet::finishChunks()
 {
   closeChunk();
-  ChunkStarts.push_back(std::uint32_t(NodeCount));
-  RadiusStarts.push_back(std::uint32_t(Radii.size()));
+  Chunks.push_back(ChunkEntry{ std::uint32_t(NodeCount), -1, std::uint32_t(Radii.size()), 0, 0.0f });
   OpenPositions = {};
   ReserveHint = 0;
   // Vectors grown by push_back hold up to twice their size: give the slack back. Per-node
@@ -553,23 +550,19 @@ void TubeSet::finishChunks()
   trim(Colors);
   trim(SourceIndex);
   Radii.shrink_to_fit();
-  ChunkStarts.shrink_to_fit();
-  ChunkPredecessors.shrink_to_fit();
-  RadiusStarts.shrink_to_fit();
-  PositionStarts.shrink_to_fit();
-  ChunkReach.shrink_to_fit();
+  Chunks.shrink_to_fit();
 }
 
 std::size_t TubeSet::compactChunkCount() const
 {
-  return std::size_t(std::count_if(PositionStarts.begin(), PositionStarts.end(),
-    [](std::uint32_t start) { return (start & kCompactChunk) != 0; }));
+  return std::size_t(std::count_if(Chunks.begin(), Chunks.end() - (Chunks.empty() ? 0 : 1),
+    [](const ChunkEntry& c) { return (c.positions & kCompactChunk) != 0; }));
 }
 
 TubeSet::ChunkPoints TubeSet::pointsOf(unsigned chunk) const
 {
   ChunkPoints points;
-  const std::uint32_t start = PositionStarts[chunk];
+  const std::uint32_t start = Chunks[chunk].positions;
   if (start & kCompactChunk)
   {
     const Half3* entries = Compact.data() + (start & ~kCompactChunk);
@@ -583,14 +576,14 @@ TubeSet::ChunkPoints TubeSet::pointsOf(unsigned chunk) const
 
 bool TubeSet::chunkStart(unsigned chunk, vec4& start) const
 {
-  const std::int32_t first = ChunkPredecessors[chunk];
+  const std::int32_t first = Chunks[chunk].predecessor;
   if (first < 0)
     return false;
-  if (chunk > 0 && std::uint32_t(first) + 1 == ChunkStarts[chunk])
+  if (chunk > 0 && std::uint32_t(first) + 1 == Chunks[chunk].firstNode)
   {
     // The previous chunk's last node: a tube going on (the usual case, no search).
-    const std::uint32_t begin = ChunkStarts[chunk - 1];
-    const std::uint32_t r = RadiusStarts[chunk - 1], count = RadiusStarts[chunk] - r;
+    const std::uint32_t begin = Chunks[chunk - 1].firstNode;
+    const std::uint32_t r = Chunks[chunk - 1].firstRadius, count = Chunks[chunk].firstRadius - r;
     start = vec4(pointsOf(chunk - 1)[std::uint32_t(first) - begin],
       Radii[count == 1 ? r : r + std::uint32_t(first) - begin]);
   }
@@ -601,7 +594,9 @@ bool TubeSet::chunkStart(unsigned chunk, vec4& start) const
 
 std::uint32_t TubeSet::chunkOf(std::uint32_t node) const
 {
-  return std::uint32_t(std::upper_bound(ChunkStarts.begin(), ChunkStarts.end(), node) - ChunkStarts.begin()) - 1;
+  const auto after = std::upper_bound(Chunks.begin(), Chunks.end(), node,
+    [](std::uint32_t n, const ChunkEntry& c) { return n < c.firstNode; });
+  return std::uint32_t(after - Chunks.begin()) - 1;
 }
 
 vec4 TubeSet::nodeAt(std::uint32_t node) const
@@ -609,8 +604,8 @@ vec4 TubeSet::nodeAt(std::uint32_t node) const
   if (!Chunked)
     return Nodes[node];
   const std::uint32_t chunk = chunkOf(node);
-  const std::uint32_t r = RadiusStarts[chunk], count = RadiusStarts[chunk + 1] - r;
-  return vec4(pointsOf(chunk)[node - ChunkStarts[chunk]], Radii[count == 1 ? r : r + node - ChunkStarts[chunk]]);
+  const std::uint32_t r = Chunks[chunk].firstRadius, count = Chunks[chunk + 1].firstRadius - r;
+  return vec4(pointsOf(chunk)[node - Chunks[chunk].firstNode], Radii[count == 1 ? r : r + node - Chunks[chunk].firstNode]);
 }
 
 namespace
@@ -633,15 +628,15 @@ void forEachChunkLink(const Points& positions, const std::vector<float>& radii,
 
 Box3 TubeSet::chunkBounds(unsigned chunk) const
 {
-  const std::uint32_t begin = ChunkStarts[chunk], end = ChunkStarts[chunk + 1];
+  const std::uint32_t begin = Chunks[chunk].firstNode, end = Chunks[chunk + 1].firstNode;
   // A link's stump lies in the hull of its spheres: the boxes of the chunk's spheres and of
   // its first link's start hold all its links.
   Box3 box;
   vec4 start;
   if (chunkStart(chunk, start))
     box.extend(sphereBox(start));
-  const std::uint32_t r = RadiusStarts[chunk];
-  const bool constant = RadiusStarts[chunk + 1] - r == 1;
+  const std::uint32_t r = Chunks[chunk].firstRadius;
+  const bool constant = Chunks[chunk + 1].firstRadius - r == 1;
   const ChunkPoints points = pointsOf(chunk);
   for (std::uint32_t node = begin; node < end; ++node)
     box.extend(sphereBox(vec4(points[node - begin], Radii[constant ? r : r + node - begin])));
@@ -655,14 +650,14 @@ bool TubeSet::intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& h
   NearestPart nearest{ ray.origin - Origin, ray.direction, ray.tnear, tmax };
   const double inverseDD = 1.0 / glm::dot(ray.direction, ray.direction);
   const ChunkPoints points = pointsOf(chunk);
-  const std::uint32_t count = ChunkStarts[chunk + 1] - ChunkStarts[chunk];
-  if (capsuleMissed(nearest.o, nearest.d, inverseDD, points[0], points[count - 1], ChunkReach[chunk]))
+  const std::uint32_t count = Chunks[chunk + 1].firstNode - Chunks[chunk].firstNode;
+  if (capsuleMissed(nearest.o, nearest.d, inverseDD, points[0], points[count - 1], Chunks[chunk].reach))
     return false;
   vec4 start(0.0f);
   const bool linked = chunkStart(chunk, start);
-  const std::uint32_t r = RadiusStarts[chunk];
-  forEachChunkLink(points, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
-    RadiusStarts[chunk + 1] - r == 1, start,
+  const std::uint32_t r = Chunks[chunk].firstRadius;
+  forEachChunkLink(points, Radii, Chunks[chunk].firstNode, Chunks[chunk + 1].firstNode, linked, r,
+    Chunks[chunk + 1].firstRadius - r == 1, start,
     [&](std::uint32_t node, const vec4& point, const vec4* start)
     {
       if (linkMissed(nearest.o, nearest.d, inverseDD, nearest.tmin, nearest.best, start ? *start : point, point))
@@ -679,14 +674,14 @@ void TubeSet::chunkIntervals(unsigned chunk, const DoubleRay& ray, std::vector<I
   const dvec3 o = ray.origin - Origin, d = ray.direction;
   const double inverseDD = 1.0 / glm::dot(d, d);
   const ChunkPoints points = pointsOf(chunk);
-  const std::uint32_t count = ChunkStarts[chunk + 1] - ChunkStarts[chunk];
-  if (capsuleMissed(o, d, inverseDD, points[0], points[count - 1], ChunkReach[chunk]))
+  const std::uint32_t count = Chunks[chunk + 1].firstNode - Chunks[chunk].firstNode;
+  if (capsuleMissed(o, d, inverseDD, points[0], points[count - 1], Chunks[chunk].reach))
     return;
   vec4 start(0.0f);
   const bool linked = chunkStart(chunk, start);
-  const std::uint32_t r = RadiusStarts[chunk];
-  forEachChunkLink(points, Radii, ChunkStarts[chunk], ChunkStarts[chunk + 1], linked, r,
-    RadiusStarts[chunk + 1] - r == 1, start,
+  const std::uint32_t r = Chunks[chunk].firstRadius;
+  forEachChunkLink(points, Radii, Chunks[chunk].firstNode, Chunks[chunk + 1].firstNode, linked, r,
+    Chunks[chunk + 1].firstRadius - r == 1, start,
     [&](std::uint32_t node, const vec4& point, const vec4* start)
     {
       if (linkMissed(o, d, inverseDD, -1e300, 1e300, start ? *start : point, point))
@@ -705,11 +700,7 @@ std::size_t TubeSet::memoryBytes() const
     StumpEnds.capacity() * sizeof(std::uint32_t) + Stumps.capacity() * sizeof(StoredStump) +
     Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t) +
     Compact.capacity() * sizeof(Half3) + Wide.capacity() * sizeof(vec3) +
-    PositionStarts.capacity() * sizeof(std::uint32_t) + ChunkReach.capacity() * sizeof(float) +
-    Radii.capacity() * sizeof(float) +
-    ChunkStarts.capacity() * sizeof(std::uint32_t) +
-    ChunkPredecessors.capacity() * sizeof(std::int32_t) +
-    RadiusStarts.capacity() * sizeof(std::uint32_t);
+    Chunks.capacity() * sizeof(ChunkEntry) + Radii.capacity() * sizeof(float);
 }
 } // namespace sightline
 
@@ -733,11 +724,7 @@ TubeRunBuilder::TubeRunBuilder(const dvec3& origin, unsigned chunkSize, bool wit
 void TubeRunBuilder::reserve(std::size_t points)
 {
   Set->ReserveHint = points; // the positions reserve when their first chunk is stored
-  Set->PositionStarts.reserve(points / Set->Layout.chunkSize + 1);
-  Set->ChunkReach.reserve(points / Set->Layout.chunkSize + 1);
-  Set->ChunkStarts.reserve(points / Set->Layout.chunkSize + 1);
-  Set->ChunkPredecessors.reserve(points / Set->Layout.chunkSize + 1);
-  Set->RadiusStarts.reserve(points / Set->Layout.chunkSize + 1);
+  Set->Chunks.reserve(points / Set->Layout.chunkSize + 1);
   if (WithColors)
     Set->Colors.reserve(points);
 }

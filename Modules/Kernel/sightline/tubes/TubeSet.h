@@ -80,7 +80,7 @@ public:
 
   std::size_t size() const override
   {
-    return Chunked ? ChunkPredecessors.size() : Nodes.size() + StumpEnds.size();
+    return Chunked ? Chunks.size() - 1 : Nodes.size() + StumpEnds.size();
   }
   bool hasPrimitiveColors() const override { return !Colors.empty(); }
   vec3 primitiveColor(unsigned primitive) const override;
@@ -111,7 +111,7 @@ public:
   /// Chunked layout: the first node of the chunk (a pick names its link: nodeOfSelection).
   std::uint32_t nodeOfPrimitive(unsigned primitive) const
   {
-    return Chunked ? ChunkStarts[primitive] : nodeOf(primitive);
+    return Chunked ? Chunks[primitive].firstNode : nodeOf(primitive);
   }
   /// The node a selection index (Geometry::selectionIndex, PixelPrimitive::primitive) names.
   std::uint32_t nodeOfSelection(std::uint32_t index) const
@@ -192,27 +192,33 @@ private:
   std::vector<StoredStump> Stumps;         ///< precomputed: one per node (combined) or stump
   std::size_t Links = 0;
   std::size_t NodeCount = 0;
-  // Chunked layout (Nodes and Predecessors empty): node i of chunk c, ChunkStarts[c] <= i <
-  // ChunkStarts[c + 1], links to i - 1, its first node to ChunkPredecessors[c]; its radii are
-  // Radii[RadiusStarts[c] ...], one for the chunk when RadiusStarts[c + 1] - RadiusStarts[c] is 1.
-  // A chunk's positions are either "wide", Wide[PositionStarts[c] ...], or "compact" (the top
-  // bit of PositionStarts[c] set): Compact[s] and Compact[s + 1] hold the bits of the chunk's
-  // float anchor, then one float16 offset per node, for chunks where anchor + offset gives back
-  // every float position exactly (Documentation/tubes.md: float16 files always do).
+  // Chunked layout (Nodes and Predecessors empty): node i of chunk c, Chunks[c].firstNode <= i <
+  // Chunks[c + 1].firstNode, links to i - 1, its first node to Chunks[c].predecessor; its radii
+  // are Radii[Chunks[c].firstRadius ...], one for the chunk when the next chunk's firstRadius is
+  // one more. A chunk's positions are either "wide", Wide[Chunks[c].positions ...], or
+  // "compact" (the top bit of positions set): Compact[s] and Compact[s + 1] hold the bits of the
+  // chunk's float anchor, then one float16 offset per node, for chunks where anchor + offset
+  // gives back every float position exactly (Documentation/tubes.md: float16 files always do).
+  struct ChunkEntry
+  {
+    std::uint32_t firstNode;
+    std::int32_t predecessor; ///< of the first node: a kept node or -1
+    std::uint32_t firstRadius;
+    std::uint32_t positions;  ///< index into Wide, or kCompactChunk | index into Compact
+    /// The radius about the segment from the first to the last node that holds the chunk (a
+    /// ray missing that capsule misses every link).
+    float reach;
+  };
+  static constexpr std::uint32_t kCompactChunk = 0x80000000u;
   bool Chunked = false;
+  /// One per chunk, and an end marker (firstNode: the node count, firstRadius: Radii's size):
+  /// one table, so that a chunk's test reads one cache line of it, not five.
+  std::vector<ChunkEntry> Chunks;
   std::vector<Half3> Compact;
   std::vector<vec3> Wide;
-  std::vector<std::uint32_t> PositionStarts; ///< one per chunk
-  /// One per chunk: the radius about the segment from its first to its last node that holds
-  /// the chunk (a ray missing that capsule misses every link).
-  std::vector<float> ChunkReach;
-  std::vector<vec3> OpenPositions;           ///< building: the open chunk's positions
-  std::size_t ReserveHint = 0;               ///< building: points expected (TubeRunBuilder::reserve)
-  static constexpr std::uint32_t kCompactChunk = 0x80000000u;
   std::vector<float> Radii;
-  std::vector<std::uint32_t> ChunkStarts;       ///< one per chunk, and the node count
-  std::vector<std::int32_t> ChunkPredecessors;  ///< one per chunk
-  std::vector<std::uint32_t> RadiusStarts;      ///< one per chunk, and Radii's size
+  std::vector<vec3> OpenPositions; ///< building: the open chunk's positions
+  std::size_t ReserveHint = 0;     ///< building: points expected (TubeRunBuilder::reserve)
   std::vector<std::uint32_t> Colors;
   Box3 AllBounds;
   ValidationReport Report;

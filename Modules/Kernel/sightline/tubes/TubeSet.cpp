@@ -408,7 +408,17 @@ void TubeSet::buildChunks()
   Predecessors = {};
   Chunked = true;
   NodeCount = 0;
+  // The exact chunk count first (appendChunkNode's rule), so that the tables and positions are
+  // reserved once at their size: a grown vector's trim would copy it at the peak.
+  std::size_t chunks = 0;
+  for (std::size_t i = 0, run = 0; i < nodes.size(); ++i)
+  {
+    run = predecessors[i] == std::int32_t(i) - 1 && run > 0 && run < Layout.chunkSize ? run + 1 : 1;
+    chunks += run == 1;
+  }
+  Chunks.reserve(chunks + 1);
   ReserveHint = nodes.size();
+  ChunkHint = chunks;
   for (std::size_t i = 0; i < nodes.size(); ++i)
     appendChunkNode(vec3(nodes[i]), nodes[i].w, predecessors[i]);
   finishChunks();
@@ -475,7 +485,7 @@ void TubeSet::storeOpenPositions()
   };
   if (compact)
   {
-    reserve(Compact, ReserveHint + 2 * (ReserveHint / Layout.chunkSize + 1));
+    reserve(Compact, ReserveHint + 2 * ChunkHint);
     Chunks.back().positions = kCompactChunk | start(Compact.size());
     Half3 bits[2];
     static_assert(sizeof(bits) == sizeof(vec3), "an anchor is two entries");
@@ -536,21 +546,22 @@ void TubeSet::finishChunks()
   closeChunk();
   Chunks.push_back(ChunkEntry{ std::uint32_t(NodeCount), -1, std::uint32_t(Radii.size()), 0, 0.0f });
   OpenPositions = {};
-  ReserveHint = 0;
-  // Vectors grown by push_back hold up to twice their size: give the slack back. Per-node
-  // vectors are the large ones (12 GB of positions at 10^9 links), whose copy would double the
-  // peak: those only where the slack is large (a builder reserves them).
-  auto trim = [](auto& v)
+  ReserveHint = ChunkHint = 0;
+  // Vectors grown by push_back hold up to twice their size: give the slack back. The large
+  // ones (6 GB of positions and 1.4 GB of chunk entries at 10^9 links) would be copied at the
+  // peak: those only where the slack is large (a builder reserves them; the chunk count is a
+  // guess there).
+  auto trim = [](auto& v, std::size_t slackDivisor)
   {
-    if (v.capacity() > v.size() + v.size() / 8)
+    if (v.capacity() > v.size() + v.size() / slackDivisor)
       v.shrink_to_fit();
   };
-  trim(Compact);
-  trim(Wide);
-  trim(Colors);
-  trim(SourceIndex);
+  trim(Compact, 8);
+  trim(Wide, 8);
+  trim(Colors, 8);
+  trim(SourceIndex, 8);
+  trim(Chunks, 4);
   Radii.shrink_to_fit();
-  Chunks.shrink_to_fit();
 }
 
 std::size_t TubeSet::compactChunkCount() const
@@ -723,8 +734,11 @@ TubeRunBuilder::TubeRunBuilder(const dvec3& origin, unsigned chunkSize, bool wit
 
 void TubeRunBuilder::reserve(std::size_t points)
 {
-  Set->ReserveHint = points; // the positions reserve when their first chunk is stored
-  Set->Chunks.reserve(points / Set->Layout.chunkSize + 1);
+  // The positions reserve when their first chunk is stored; tubes end a chunk early, allow
+  // for one end in 48 points (streamlines of 20-200 mm at 0.5-1 mm steps have 40-400).
+  Set->ReserveHint = points;
+  Set->ChunkHint = points / Set->Layout.chunkSize + points / 48 + 1;
+  Set->Chunks.reserve(Set->ChunkHint + 1);
   if (WithColors)
     Set->Colors.reserve(points);
 }

@@ -219,6 +219,7 @@ private:
   std::vector<float> Radii;
   std::vector<vec3> OpenPositions; ///< building: the open chunk's positions
   std::size_t ReserveHint = 0;     ///< building: points expected (TubeRunBuilder::reserve)
+  std::size_t ChunkHint = 0;       ///< building: chunks expected
   std::vector<std::uint32_t> Colors;
   Box3 AllBounds;
   ValidationReport Report;

@@ -622,8 +622,8 @@ vec4 TubeSet::nodeAt(std::uint32_t node) const
 namespace
 {
 /// Calls visit(node, its point and radius, its predecessor's or null) for each link of a chunk.
-template <class Points, class Visit>
-void forEachChunkLink(const Points& positions, const std::vector<float>& radii,
+template <class Points, class Radii, class Visit>
+void forEachChunkLink(const Points& positions, const Radii& radii,
   std::uint32_t begin, std::uint32_t end, bool linked, std::uint32_t radiusStart,
   bool constant, const vec4& start, Visit&& visit)
 {

@@ -44,6 +44,7 @@ BATCH = 100000         # streamlines stepped together
 MAX_STEPS = 200        # 200 mm at 1 mm steps
 COMBINED_MAX_LINKS = 3e7
 TRANSLUCENT_MAX_LINKS = 3e7  # 10^7 chunked translucent frames take ~100 s already
+WHOLE_READ_BYTES_PER_LINK = 100  # peak of a whole read (2026-11-28: 97 B/link at 10^8)
 STREAM_PIECE_LINKS = 5e6
 RADIUS = 0.3
 SIZE = (1920, 1080)
@@ -275,6 +276,8 @@ def main():
     parser.add_argument("--output", default=os.path.dirname(os.path.abspath(__file__)))
     parser.add_argument("--image", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                         "..", "Documentation", "images", "whole-brain-1e7.png"))
+    parser.add_argument("--append", action="store_true",
+                        help="add this run's rows to today's CSV (and plot all of them) instead of replacing it")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
@@ -305,7 +308,9 @@ def main():
         # Streamed: one piece per STREAM_PIECE_LINKS links (opaque only: its frames are the
         # chunked layout's, which the automatic rows time).
         pieces = max(2, int(np.ceil(links / STREAM_PIECE_LINKS)))
-        layouts = [("automatic", automatic, 1), ("streamed", chunked, pieces)] + \
+        # Read whole only where its peak fits in most of the RAM (not 10^9 links on 24 GB).
+        whole = WHOLE_READ_BYTES_PER_LINK * links < 0.8 * ram
+        layouts = ([("automatic", automatic, 1)] if whole else []) + [("streamed", chunked, pieces)] + \
             ([("combined", combined, 1)] if links <= COMBINED_MAX_LINKS else [])
         for layout_name, layout, layout_pieces in layouts:
             for opacity in (1.0, 0.4):
@@ -347,15 +352,20 @@ def main():
                              "load_before": load_before, "load_after": load()})
                 print(f" {r['load_s']:.2f} s, peak {rows[-1]['peak_rss_gb']:.2f} GB")
 
-    keys = list(dict.fromkeys(k for row in rows for k in row))
     machine = f"{os.cpu_count()} cores, {ram / 2**30:.1f} GiB, loadavg {open('/proc/loadavg').read().split()[:3]}"
+    for row in rows:
+        row["machine"] = machine
     path = os.path.join(args.output, f"results-whole-brain-{today}.csv")
+    if args.append and os.path.exists(path):
+        with open(path, newline="") as f:
+            earlier = [{k: number(v) for k, v in row.items() if v != ""} for row in csv.DictReader(f)]
+        rows = earlier + rows
+    keys = list(dict.fromkeys(k for row in rows for k in row if k != "machine"))
     with open(path, "w", newline="") as f:
         writer = csv.DictWriter(f, keys + ["machine"])
         writer.writeheader()
         for row in rows:
-            writer.writerow({**{k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in row.items()},
-                             "machine": machine})
+            writer.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in row.items()})
     print(f"\n{path}\n")
     print("| links | layout | opacity | file MB | read s | first image s | still s | geometry B/link"
           " | BVH B/link | peak GB | peak B/link |")
@@ -366,6 +376,16 @@ def main():
               f" | {r.get('geometry_b_per_link', float('nan')):.1f} | {r.get('bvh_b_per_link', float('nan')):.1f}"
               f" | {r['peak_rss_gb']:.2f} | {r['peak_b_per_link']:.0f} |")
     plot(rows, os.path.join(args.output, f"whole-brain-{today}.png"))
+
+
+def number(text):
+    """A CSV field as written above: an int, a float (nan included) or the text itself."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
 
 
 def plot(rows, path):

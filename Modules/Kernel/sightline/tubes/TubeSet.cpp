@@ -523,11 +523,9 @@ void TubeSet::closeChunk()
     const std::size_t r = Chunks.back().firstRadius;
     for (std::size_t i = 0; i < OpenPositions.size(); ++i)
       include(OpenPositions[i], Radii[r + i]);
-    if (Chunks.back().predecessor >= 0)
-    {
-      const vec4 start = nodeAt(std::uint32_t(Chunks.back().predecessor));
+    vec4 start; // (the previous chunk's last node mostly: no search per chunk while building)
+    if (chunkStart(unsigned(Chunks.size() - 1), start))
       include(vec3(start), start.w);
-    }
     // Rounded up, and padded against the rounding of the test (linkMissed's padding).
     reach += 1e-7 * (reach + std::sqrt(length2) + glm::length(p0)) + 1e-30;
     Chunks.back().reach = std::nextafter(float(reach), kInfinity);

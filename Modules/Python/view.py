@@ -14,6 +14,9 @@ image rendered without a window or OpenGL by vtkSightlineImageRenderer):
   .mif .mif.gz         the same from MRtrix3 (e.g. FODs from dwi2fod, tensors from dwi2tensor)
   .vtr                 spherical (r, theta, phi) or cylindrical (rho, phi, z) rectilinear grid
                        in VTK's XML format -> ray-cast volume on its own grid
+  .nc                  CF netCDF Earth or planetary model (longitude, latitude, depth/radius)
+                       -> ray-cast volume on its own spherical grid, placed on the globe, with
+                       a graticule; --variable picks the variable, --cut wedge|hemisphere opens it
 
 An image's component count says what it holds: 6 is a diffusion tensor, 9/81/729 a full tensor,
 36 a Voigt matrix, 15, 28, 45, 66, ... an SH series (lmax 4, 6, 8, 10, ...). --basis makes any
@@ -830,6 +833,77 @@ class VolumeLayer(Layer):
         return f"{self.path}: {self.text}"
 
 
+class EarthModelLayer(Layer):
+    """A CF netCDF model (longitude, latitude, depth or radius) as an exact spherical volume
+    on the globe: perturbations in a diverging map centred on zero, a graticule of exact tubes
+    on the outer sphere, and optionally a wedge or hemisphere cut away facing the camera."""
+
+    def __init__(self, path, args):
+        super().__init__(path)
+        from sightline import earth
+
+        if not os.path.isfile(path):
+            raise ViewError(f"{path}: no such file")
+        try:
+            grid, reader = earth.read_model(path, args.variable, args.reference_radius,
+                                            args.vertical)
+            azimuth = vtk_to_numpy(grid.GetZCoordinates())
+            longitude = args.view_longitude
+            if longitude is None:  # the middle of a regional model; 0 E for a globe
+                span = azimuth[-1] - azimuth[0]
+                longitude = 0.0 if span > 2 * math.pi - 1e-6 else math.degrees(
+                    azimuth[0] + span / 2)
+            if args.cut:
+                grid = earth.cut_away(grid, longitude, 90.0 if args.cut == "wedge" else 180.0)
+        except earth.ModelError as error:
+            raise ViewError(f"{path}: {error}") from None
+        lat, lon = math.radians(args.view_latitude), math.radians(longitude)
+        self.view_direction = np.array([math.cos(lat) * math.cos(lon),
+                                        math.cos(lat) * math.sin(lon), math.sin(lat)])
+        values = vtk_to_numpy(grid.GetPointData().GetScalars())
+        finite = values[np.isfinite(values)]
+        if finite.size == 0:
+            raise ViewError(f"{path}: every value of the variable is missing")
+        low, high = float(finite.min()), float(finite.max())
+        mapper = sightline.vtkSightlineSphericalVolumeMapper()
+        mapper.SetInputDataObject(grid)
+        Progress(f"volume of {os.path.basename(path)}").watch(mapper)
+        prop = earth.diverging_volume_property(low, high)
+        outer = float(vtk_to_numpy(grid.GetXCoordinates()).max())
+        self.outer = outer
+        self.unit_distance = outer / 40.0  # features a few hundred km across read as solid
+        prop.SetScalarOpacityUnitDistance(self.unit_distance)
+        volume = vtk.vtkVolume()
+        volume.SetMapper(mapper)
+        volume.SetProperty(prop)
+        self.mapper, self.volumes, self.grid = mapper, [volume], grid
+        if args.graticule:
+            self.actors = [earth.graticule_actor(grid, facing=self.view_direction)]
+        names = [reader.GetVariableNameOf(i) for i in range(reader.GetNumberOfVariables())]
+        radius = vtk_to_numpy(grid.GetXCoordinates())
+        self.text = (f"'{grid.GetPointData().GetScalars().GetName()}' of {names} on "
+                     f"{tuple(grid.GetDimensions())} nodes (r, colatitude, longitude), radius "
+                     f"{radius.min():.0f}-{radius.max():.0f} km, values in [{low:.4g}, {high:.4g}]"
+                     + (f", {np.count_nonzero(~np.isfinite(values))} missing" if finite.size < values.size else "")
+                     + (f", {args.cut} cut away" if args.cut else ""))
+
+    def set_translucent(self, on):
+        prop = self.volumes[0].GetProperty()
+        prop.SetScalarOpacityUnitDistance(self.unit_distance * (4.0 if on else 1.0))
+        return True
+
+    def describe(self):
+        return f"{self.path}: {self.text}"
+
+    def frame_points(self):
+        """Points on the outer sphere (its box's corners would frame the globe loosely)."""
+        k = np.arange(400) + 0.5
+        z = 1.0 - 2.0 * k / 400
+        phi = math.pi * (1.0 + math.sqrt(5.0)) * k
+        ring = np.sqrt(1.0 - z * z)
+        return self.outer * np.stack([ring * np.cos(phi), ring * np.sin(phi), z], axis=1)
+
+
 def load(path, args):
     extension = lower_extension(path)
     if extension in TubeLayer.READERS:
@@ -840,9 +914,11 @@ def load(path, args):
         return GlyphLayer(path, extension, args)
     if extension == ".vtr":
         return VolumeLayer(path, extension, args)
+    if extension in (".nc", ".nc4", ".cdf"):
+        return EarthModelLayer(path, args)
     raise ViewError(f"{path}: unknown file type '{extension or os.path.basename(path)}'; "
                     "sightline-view opens .trk, .tck, .trx, .swc, .nii, .nii.gz, .mif, .mif.gz, "
-                    ".vtr")
+                    ".vtr, .nc")
 
 
 # -- the scene -------------------------------------------------------------------------------
@@ -899,6 +975,12 @@ class Scene:
             tilt = math.radians(90.0 - self.args.elevation)
             direction = math.cos(tilt) * normal - math.sin(tilt) * up
             view_up = math.cos(tilt) * up + math.sin(tilt) * normal
+        elif any(hasattr(layer, "view_direction") for layer in self.layers):
+            # an Earth model: from above its view latitude and longitude, north up
+            centre = np.zeros(3)
+            direction = next(layer.view_direction for layer in self.layers
+                             if hasattr(layer, "view_direction"))
+            view_up = np.array([0.0, 0.0, 1.0])
         else:  # from the left, a little in front and above, superior up
             centre = np.zeros(3)
             direction, view_up = np.array([-1.0, -0.35, 0.25]), np.array([0.0, 0.0, 1.0])
@@ -1232,6 +1314,23 @@ def parse_arguments(argv):
                        help=".vtr coordinates: (r, theta, phi) or (rho, phi, z)")
     other.add_argument("--angles", choices=("auto", "radians", "degrees"), default="auto",
                        help=".vtr angle units (auto: degrees when an angle exceeds 2 pi)")
+    earth = parser.add_argument_group("Earth and planetary models (.nc)")
+    earth.add_argument("--variable", metavar="NAME",
+                       help="the variable to draw (default: the first on the grid)")
+    earth.add_argument("--cut", choices=("wedge", "hemisphere"),
+                       help="remove a 90-degree wedge or a hemisphere facing the camera")
+    earth.add_argument("--view-longitude", type=float, metavar="DEG",
+                       help="look from above this longitude (default: the model's middle, 0 E "
+                            "for a global one); the cut is centred on it")
+    earth.add_argument("--view-latitude", type=float, default=20.0, metavar="DEG",
+                       help="look from above this latitude (default 20)")
+    earth.add_argument("--reference-radius", type=float, default=6371.0, metavar="KM",
+                       help="radius depths are measured from (default 6371, the Earth)")
+    earth.add_argument("--vertical", choices=("auto", "depth", "radius", "altitude"),
+                       default="auto", help="what the vertical coordinate is (default: from "
+                                            "its 'positive' attribute and name)")
+    earth.add_argument("--no-graticule", dest="graticule", action="store_false",
+                       help="no parallels and meridians on the outer sphere")
     parser.add_argument("--screenshot-dir", default=".", metavar="DIR",
                         help="where the p key saves sightline-view-NNN.png (default: here)")
     parser.add_argument("--keys", metavar="K1,K2,...",

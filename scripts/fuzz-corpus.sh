@@ -5,7 +5,10 @@
 # nibabel's tracks as trx-python lays them out (every positions dtype, stored and deflated, dpv,
 # dps, groups, dpg; one with the older one-offset-per-streamline layout), and small .mif/.mif.gz cut
 # by MRtrix3's mrconvert from SH_DATA/small_64D_sh_tournier07.mif (the SHData fixture) in every
-# datatype the reader supports, both byte orders and three stride layouts.
+# datatype the reader supports, both byte orders and three stride layouts; coarse EMC-shaped CF
+# netCDF models from Examples/Python/write_earth_model.py (classic and 64-bit offset formats,
+# several conventions, fill values; not netCDF-4, whose HDF5 parser is not ours: see
+# Documentation/reliability.md).
 # Usage: fuzz-corpus.sh OUT SH_DATA
 set -euo pipefail
 out="$1"
@@ -14,7 +17,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 nibabel=/usr/lib/python3/dist-packages/nibabel/tests/data
 dipy=/usr/lib/python3/dist-packages/dipy/data/files/minimal_bundles.zip
 rm -rf "$out"
-mkdir -p "$out"/{MIF,TCK,TrackVis,SWC,TRX}
+mkdir -p "$out"/{MIF,TCK,TrackVis,SWC,TRX,NetCDFSpherical}
 cp "$nibabel"/*.trk "$out/TrackVis/"
 cp "$nibabel"/*.tck "$out/TCK/"
 cp "$root"/Testing/Data/SWC/*.swc "$out/SWC/"
@@ -58,6 +61,19 @@ for n, (dtype, method, older) in enumerate([
         for name, data in members.items():
             archive.writestr(name, data)
 PY
+/usr/bin/python3 - "$root/Examples/Python" "$out/NetCDFSpherical" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+import write_earth_model as model
+out = sys.argv[2]
+model.write_model(f"{out}/emc_classic.nc", step=30.0, file_format="NETCDF3_CLASSIC")
+model.write_model(f"{out}/emc_64bit.nc", step=45.0, file_format="NETCDF3_64BIT_OFFSET",
+                  depth_units="m", latitude_descending=True, longitudes="360",
+                  order=("latitude", "longitude", "depth"))
+model.write_model(f"{out}/radius_regional.nc", step=10.0, file_format="NETCDF3_CLASSIC",
+                  vertical="radius", region=(-30.0, 30.0, 150.0, 210.0),
+                  missing=lambda d, la, lo: la > 15)
+PY
 source="$sh_data/small_64D_sh_tournier07.mif"
 n=0
 for type in int8 uint8 int16le int16be uint16le uint16be int32le int32be uint32le uint32be \
@@ -71,4 +87,5 @@ for type in int8 uint8 int16le int16be uint16le uint16be int32le int32be uint32l
   done
 done
 echo "seeds: $(ls "$out/MIF" | wc -l) MIF, $(ls "$out/TCK" | wc -l) TCK," \
-  "$(ls "$out/TrackVis" | wc -l) TrackVis, $(ls "$out/SWC" | wc -l) SWC, $(ls "$out/TRX" | wc -l) TRX"
+  "$(ls "$out/TrackVis" | wc -l) TrackVis, $(ls "$out/SWC" | wc -l) SWC, $(ls "$out/TRX" | wc -l) TRX," \
+  "$(ls "$out/NetCDFSpherical" | wc -l) NetCDFSpherical"

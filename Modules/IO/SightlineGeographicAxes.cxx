@@ -104,8 +104,11 @@ int Monotonic(const std::vector<double>& v, const CoordinateAttributes& a, std::
   return direction;
 }
 
-// The axis from converted values that are monotonic in `direction`, increasing.
-void Increasing(const std::vector<double>& converted, int direction, SphericalAxis& axis)
+// The axis from converted values that are monotonic in `direction`, increasing; false with
+// `error` set when the conversion made neighbours equal (values too close for doubles, e.g.
+// depths of 1e-20 km below a radius of 6371 km).
+bool Increasing(const std::vector<double>& converted, int direction, SphericalAxis& axis,
+  const CoordinateAttributes& a, std::string& error)
 {
   const std::size_t n = converted.size();
   axis.coordinates.resize(n);
@@ -115,7 +118,14 @@ void Increasing(const std::vector<double>& converted, int direction, SphericalAx
     const std::size_t from = direction > 0 ? i : n - 1 - i;
     axis.coordinates[i] = converted[from];
     axis.fileIndex[i] = from;
+    if (i > 0 && !(axis.coordinates[i] > axis.coordinates[i - 1]))
+    {
+      error = Named(a) + " has neighbouring nodes that coincide on the sphere (node " +
+        std::to_string(from) + ")";
+      return false;
+    }
   }
+  return true;
 }
 } // namespace
 
@@ -213,8 +223,7 @@ bool RadialAxis(const std::vector<double>& values, const CoordinateAttributes& a
       return false;
     }
   }
-  Increasing(radius, kind == VerticalKind::Depth ? -direction : direction, axis);
-  return true;
+  return Increasing(radius, kind == VerticalKind::Depth ? -direction : direction, axis, a, error);
 }
 
 bool PolarAxis(const std::vector<double>& values, const CoordinateAttributes& a, AxisRole role,
@@ -247,8 +256,8 @@ bool PolarAxis(const std::vector<double>& values, const CoordinateAttributes& a,
     }
     colatitude[i] = std::min(std::max(colatitude[i], 0.0), Pi);
   }
-  Increasing(colatitude, role == AxisRole::Colatitude ? direction : -direction, axis);
-  return true;
+  return Increasing(
+    colatitude, role == AxisRole::Colatitude ? direction : -direction, axis, a, error);
 }
 
 bool AzimuthAxis(const std::vector<double>& values, const CoordinateAttributes& a,
@@ -309,7 +318,10 @@ bool AzimuthAxis(const std::vector<double>& values, const CoordinateAttributes& 
     error = text.str();
     return false;
   }
-  Increasing(unwrapped, direction, axis);
+  if (!Increasing(unwrapped, direction, axis, a, error))
+  {
+    return false;
+  }
   // A global grid without its closing meridian: the gap to a full turn is about one step.
   const double gap = turn - span;
   const double meanStep = span / double(n - 1);
@@ -318,9 +330,9 @@ bool AzimuthAxis(const std::vector<double>& values, const CoordinateAttributes& 
     axis.coordinates.push_back(axis.coordinates.front() + turn);
     axis.fileIndex.push_back(axis.fileIndex.front());
   }
-  else if (gap <= tolerance)
+  else if (gap <= tolerance && axis.coordinates.front() + turn > axis.coordinates[n - 2])
   {
-    axis.coordinates.back() = axis.coordinates.front() + turn;
+    axis.coordinates.back() = axis.coordinates.front() + turn; // exactly closed
   }
   return true;
 }

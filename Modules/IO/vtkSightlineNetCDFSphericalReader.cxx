@@ -2,6 +2,7 @@
 #include "vtkSightlineNetCDFSphericalReader.h"
 
 #include "SightlineGeographicAxes.h"
+#include "SightlineNetCDFClassicHeader.h"
 #include "SightlineReaderInput.h"
 
 #include "vtkDoubleArray.h"
@@ -25,7 +26,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <vector>
@@ -57,29 +57,17 @@ public:
 
   bool Open(const char* fileName, bool fromString, std::string& bytes, std::string& error)
   {
-    int status = NC_NOERR;
-    if (fromString)
+    sightline_io::InputFile input;
+    if (!input.Open(fileName, fromString, bytes, error) ||
+      !sightline_io::CheckNetCDFClassicHeader(input, error))
     {
-      this->Bytes = static_cast<double>(bytes.size());
-      status = bytes.empty() ? NC_ENOTNC
-                             : nc_open_mem("input string", NC_NOWRITE, bytes.size(), &bytes[0], &this->Id);
+      return false;
     }
-    else
-    {
-      if (!fileName || !*fileName)
-      {
-        error = "no file name is set";
-        return false;
-      }
-      std::ifstream file(fileName, std::ios::binary | std::ios::ate);
-      if (!file)
-      {
-        error = "cannot open the file";
-        return false;
-      }
-      this->Bytes = static_cast<double>(file.tellg());
-      status = nc_open(fileName, NC_NOWRITE, &this->Id);
-    }
+    this->Bytes = static_cast<double>(input.Size());
+    const int status = fromString
+      ? (bytes.empty() ? NC_ENOTNC
+                       : nc_open_mem("input string", NC_NOWRITE, bytes.size(), &bytes[0], &this->Id))
+      : nc_open(fileName, NC_NOWRITE, &this->Id);
     if (status != NC_NOERR)
     {
       this->Id = -1;

@@ -3,8 +3,8 @@
 // input is a whole file, parsed from memory through SetInputString/ReadFromInputString.
 // Besides crashes, hangs, leaks and out-of-memory (libFuzzer, ASan, UBSan), it traps on
 // results the readers promise never to give: an error or warning text that is not valid
-// UTF-8, a polyline point index outside the points, a non-finite streamline point, or image
-// scalars that do not cover the image. Each input is read whole and then as piece 1 of 3 (what
+// UTF-8, a polyline point index outside the points, a non-finite streamline point, image
+// scalars that do not cover the image, or grid coordinates that are not finite and increasing. Each input is read whole and then as piece 1 of 3 (what
 // a pvbatch/pvserver rank asks for), which must satisfy the same checks and hold no more points
 // than the whole.
 #include "vtkCallbackCommand.h"
@@ -15,6 +15,7 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkRectilinearGrid.h"
 #include SIGHTLINE_FUZZ_HEADER
 
 #include <cmath>
@@ -115,6 +116,42 @@ void CheckOutput(vtkImageData* output)
   if (scalars && scalars->GetNumberOfTuples() != output->GetNumberOfPoints())
   {
     __builtin_trap();
+  }
+}
+void CheckOutput(vtkRectilinearGrid* output)
+{
+  // Coordinates finite and strictly increasing (the spherical mapper's convention), every
+  // point array covering the grid.
+  vtkDataArray* axes[3] = { output->GetXCoordinates(), output->GetYCoordinates(),
+    output->GetZCoordinates() };
+  vtkIdType points = 1;
+  for (vtkDataArray* axis : axes)
+  {
+    if (!axis)
+    {
+      return;
+    }
+    for (vtkIdType i = 0; i < axis->GetNumberOfTuples(); ++i)
+    {
+      const double v = axis->GetComponent(i, 0);
+      if (!std::isfinite(v) || (i > 0 && !(v > axis->GetComponent(i - 1, 0))))
+      {
+        __builtin_trap();
+      }
+    }
+    points *= axis->GetNumberOfTuples();
+  }
+  if (output->GetNumberOfPoints() > 0 && points != output->GetNumberOfPoints())
+  {
+    __builtin_trap();
+  }
+  vtkPointData* data = output->GetPointData();
+  for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+  {
+    if (data->GetArray(a)->GetNumberOfTuples() != output->GetNumberOfPoints())
+    {
+      __builtin_trap();
+    }
   }
 }
 } // namespace

@@ -350,9 +350,75 @@ class BadFiles(unittest.TestCase):
         with open(text, "w") as stream:
             stream.write("not netCDF at all\n")
         self.expect(text, ["netCDF cannot open it"])
-        self.expect(Path.new("absent"), ["cannot open the file"])
+        self.expect(Path.new("absent"), ["Cannot open", "missing or unreadable"])
+        # A classic header whose first dimension name claims 4 GB (libnetcdf would allocate it).
+        classic = Path.new("classic")
+        model.write_model(classic, step=45.0, file_format="NETCDF3_CLASSIC")
+        with open(classic, "rb") as stream:
+            data = bytearray(stream.read())
+        self.assertEqual(bytes(data[:4]), b"CDF\x01")
+        data[16:20] = (0xFFFFFFF0).to_bytes(4, "big")  # after magic, numrecs, tag, count
+        damaged = Path.new("damaged")
+        with open(damaged, "wb") as stream:
+            stream.write(bytes(data))
+        self.expect(damaged, ["damaged netCDF header", "more than the file holds"])
         self.assertEqual(sightline.vtkSightlineNetCDFSphericalReader.CanReadFile(text), 0)
         self.assertEqual(sightline.vtkSightlineNetCDFSphericalReader.CanReadFile(path), 0)
+
+
+class Hardening(unittest.TestCase):
+    """Damaged classic files (cut short, bytes changed) end in an error or a consistent grid,
+    never a crash; the in-memory path reads what the file path reads."""
+
+    def read_bytes(self, data):
+        reader = sightline.vtkSightlineNetCDFSphericalReader()
+        reader.SetInputString(data)
+        reader.ReadFromInputStringOn()
+        errors = []
+
+        @calldata_type(VTK_STRING)
+        def on_error(caller, event, message):
+            errors.append(message)
+
+        reader.AddObserver(vtk.vtkCommand.ErrorEvent, on_error)
+        reader.Update()
+        return reader.GetOutput(), errors
+
+    def check(self, grid, errors):
+        if grid.GetNumberOfPoints() == 0:
+            return
+        count = 1
+        for axis in (grid.GetXCoordinates(), grid.GetYCoordinates(), grid.GetZCoordinates()):
+            values = vtk_to_numpy(axis)
+            self.assertTrue(np.all(np.isfinite(values)) and np.all(np.diff(values) > 0))
+            count *= len(values)
+        self.assertEqual(count, grid.GetNumberOfPoints())
+        data = grid.GetPointData()
+        for i in range(data.GetNumberOfArrays()):
+            self.assertEqual(data.GetArray(i).GetNumberOfTuples(), count)
+
+    def test_damaged_classic_files(self):
+        path = Path.new("hardening")
+        model.write_model(path, step=30.0, file_format="NETCDF3_CLASSIC")
+        with open(path, "rb") as stream:
+            data = stream.read()
+        whole, errors = self.read_bytes(data)
+        self.assertEqual(errors, [])
+        np.testing.assert_array_equal(values(whole), values(read(path)[1]))
+        cut_errors = 0
+        for length in range(0, len(data), max(1, len(data) // 60)):
+            grid, errors = self.read_bytes(data[:length])
+            self.check(grid, errors)
+            cut_errors += bool(errors)
+        self.assertGreater(cut_errors, 50, "cut files are named errors")
+        rng = np.random.default_rng(38)
+        header = 1200  # most mutations in the header, where the structure is
+        for _ in range(300):
+            mutated = bytearray(data)
+            for position in rng.integers(0, header, size=rng.integers(1, 4)):
+                mutated[position] = int(rng.integers(0, 256))
+            grid, errors = self.read_bytes(bytes(mutated))
+            self.check(grid, errors)
 
 
 class View(unittest.TestCase):

@@ -15,6 +15,7 @@ import unittest
 import zipfile
 
 import numpy as np
+from paraview import servermanager
 from paraview.simple import (Calculator, ClearSelection, ColorBy, Delete, GetColorTransferFunction,
                              GetOpacityTransferFunction, GroupDatasets, LoadPlugin, OpenDataFile,
                              PVTrivialProducer, Render, SelectSurfaceCells, SelectSurfacePoints,
@@ -528,6 +529,57 @@ class ParaViewPluginTest(unittest.TestCase):
         volume.SetProperty(prop)
         self.compare_with_vtk(view, source, rep, volume, "PREMVolume")
         Delete(view)
+
+    def test_netcdf_earth_model_as_a_spherical_volume(self):
+        # An EMC-shaped CF model (written by the example the README shows), opened through our
+        # reader (one of File > Open's readers for .nc, beside ParaView's own) and drawn as a
+        # Sightline Spherical Volume in a diverging map: the same pixels as the VTK mapper.
+        sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                        "Examples", "Python"))
+        import write_earth_model
+
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "model.nc")
+            write_earth_model.write_model(path, step=10.0)
+            # (GetPossibleReaders would import every Python reader ParaView has, some broken on
+            # Debian 12's Python: the hint File > Open reads is checked instead.)
+            prototype = servermanager.ActiveConnection.Session.GetSessionProxyManager() \
+                .GetPrototypeProxy("sources", "SightlineNetCDFSphericalReader")
+            hint = prototype.GetHints().FindNestedElementByName("ReaderFactory")
+            self.assertIn("nc", hint.GetAttribute("extensions").split())
+            reader = SightlineNetCDFEarthModelReader(FileName=path)  # noqa: F821  (LoadPlugin)
+            reader.VariableName = "dvs"
+            view = make_view()
+            rep = Show(reader, view)
+            rep.Representation = "Sightline Spherical Volume"
+            ColorBy(rep, ("POINTS", "dvs"))
+            lut = GetColorTransferFunction("dvs")
+            lut.ApplyPreset("Cool to Warm", True)
+            lut.RescaleTransferFunction(-3.5, 3.5)
+            opacity = GetOpacityTransferFunction("dvs")
+            opacity.Points = [-3.5, 0.8, 0.5, 0.0, 0.0, 0.0, 0.5, 0.0, 3.5, 0.8, 0.5, 0.0]
+            rep.ScalarOpacityUnitDistance = 400.0
+            view.CameraPosition = [-2.0e4, -3.0e4, 1.2e4]
+            view.CameraFocalPoint = [0, 0, 0]
+            view.CameraViewUp = [0, 0, 1]
+            view.ResetCamera()
+            Render(view)
+            grid = reader.GetClientSideObject().GetOutputDataObject(0)
+            self.assertEqual(grid.GetDimensions(), (17, 19, 37))
+            mapper = sightline.vtkSightlineSphericalVolumeMapper()
+            mapper.SetInputDataObject(grid)
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectScalarArray("dvs")
+            prop = vtkVolumeProperty()
+            prop.SetColor(lut.GetClientSideObject())
+            prop.SetScalarOpacity(opacity.GetClientSideObject())
+            prop.SetScalarOpacityUnitDistance(400.0)
+            volume = vtkVolume()
+            volume.SetMapper(mapper)
+            volume.SetProperty(prop)
+            self.compare_with_vtk(view, reader, rep, volume, "NetCDFModelVolume")
+            Delete(view)
+            Delete(reader)
 
 
 if __name__ == "__main__":

@@ -35,6 +35,7 @@ import vtk
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import sightline
+from sightline import earth
 from sightline.view import ViewError, angles_in_degrees, ramp_volume_property, read_grid
 
 INNER_CORE_KM = 1221.5
@@ -65,30 +66,9 @@ def transfer_functions():
     return color, opacity
 
 
-def graticule(radius, step_degrees=30, samples=181):
-    """Parallels and meridians as polylines on a sphere."""
-    points = vtk.vtkPoints()
-    lines = vtk.vtkCellArray()
-
-    def add(curve):
-        lines.InsertNextCell(len(curve))
-        for p in curve:
-            lines.InsertCellPoint(points.InsertNextPoint(*p))
-
-    for lat in range(-60, 61, step_degrees):
-        t = math.radians(90 - lat)
-        add([(radius * math.sin(t) * math.cos(2 * math.pi * i / (samples - 1)),
-              radius * math.sin(t) * math.sin(2 * math.pi * i / (samples - 1)),
-              radius * math.cos(t)) for i in range(samples)])
-    for lon in range(0, 360, step_degrees):
-        p = math.radians(lon)
-        add([(radius * math.sin(math.pi * i / (samples - 1)) * math.cos(p),
-              radius * math.sin(math.pi * i / (samples - 1)) * math.sin(p),
-              radius * math.cos(math.pi * i / (samples - 1))) for i in range(samples)])
-    polydata = vtk.vtkPolyData()
-    polydata.SetPoints(points)
-    polydata.SetLines(lines)
-    return polydata
+def graticule(radius, step_degrees=30):
+    """Parallels and meridians as polylines on a sphere (sightline.earth's, over the globe)."""
+    return earth.graticule_lines(radius, (0.0, math.pi), (0.0, 2 * math.pi), step_degrees)
 
 
 def front_graticule(camera, radius, color=(0.85, 0.9, 1.0)):

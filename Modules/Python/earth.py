@@ -176,7 +176,10 @@ def graticule_lines(radius, colatitude_range, azimuth_range, step_degrees=30.0,
         if 1e-6 < theta < math.pi - 1e-6:  # the poles are points
             phi = np.linspace(p0, p1, samples(p0, p1))
             add(np.full_like(phi, theta), phi)
-    for phi in np.arange(math.ceil(p0 / step - 1e-9) * step, p1 + 1e-9, step):
+    meridians = np.arange(math.ceil(p0 / step - 1e-9) * step, p1 + 1e-9, step)
+    if p1 - p0 > 2 * math.pi - 1e-9:  # a whole turn: its last meridian is its first
+        meridians = meridians[meridians < p0 + 2 * math.pi - 1e-9]
+    for phi in meridians:
         theta = np.linspace(t0, t1, samples(t0, t1))
         add(theta, np.full_like(theta, phi))
     polydata = vtk.vtkPolyData()

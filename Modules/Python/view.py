@@ -853,6 +853,13 @@ class EarthModelLayer(Layer):
                 span = azimuth[-1] - azimuth[0]
                 longitude = 0.0 if span > 2 * math.pi - 1e-6 else math.degrees(
                     azimuth[0] + span / 2)
+            # The colour range is the whole model's, whatever the cut leaves.
+            values = vtk_to_numpy(grid.GetPointData().GetScalars())
+            finite = values[np.isfinite(values)]
+            if finite.size == 0:
+                raise ViewError(f"{path}: every value of the variable is missing")
+            low, high = float(finite.min()), float(finite.max())
+            missing = values.size - finite.size
             if args.cut:
                 grid = earth.cut_away(grid, longitude, 90.0 if args.cut == "wedge" else 180.0)
         except earth.ModelError as error:
@@ -860,11 +867,6 @@ class EarthModelLayer(Layer):
         lat, lon = math.radians(args.view_latitude), math.radians(longitude)
         self.view_direction = np.array([math.cos(lat) * math.cos(lon),
                                         math.cos(lat) * math.sin(lon), math.sin(lat)])
-        values = vtk_to_numpy(grid.GetPointData().GetScalars())
-        finite = values[np.isfinite(values)]
-        if finite.size == 0:
-            raise ViewError(f"{path}: every value of the variable is missing")
-        low, high = float(finite.min()), float(finite.max())
         mapper = sightline.vtkSightlineSphericalVolumeMapper()
         mapper.SetInputDataObject(grid)
         Progress(f"volume of {os.path.basename(path)}").watch(mapper)
@@ -884,7 +886,7 @@ class EarthModelLayer(Layer):
         self.text = (f"'{grid.GetPointData().GetScalars().GetName()}' of {names} on "
                      f"{tuple(grid.GetDimensions())} nodes (r, colatitude, longitude), radius "
                      f"{radius.min():.0f}-{radius.max():.0f} km, values in [{low:.4g}, {high:.4g}]"
-                     + (f", {np.count_nonzero(~np.isfinite(values))} missing" if finite.size < values.size else "")
+                     + (f", {missing} missing" if missing else "")
                      + (f", {args.cut} cut away" if args.cut else ""))
 
     def set_translucent(self, on):

@@ -195,7 +195,7 @@ def graticule_actor(grid, facing=None, step_degrees=30.0, color=(0.85, 0.88, 0.9
     colatitude = vtk_to_numpy(grid.GetYCoordinates())
     azimuth = vtk_to_numpy(grid.GetZCoordinates())
     outer = float(radius.max())
-    span = math.degrees(max(colatitude.ptp(), azimuth.ptp()))
+    span = math.degrees(max(np.ptp(colatitude), np.ptp(azimuth)))
     step = step_degrees if span > 2 * step_degrees else max(1.0, round(span / 4.0))
     lines = graticule_lines(outer * 1.004, (float(colatitude.min()), float(colatitude.max())),
                             (float(azimuth.min()), float(azimuth.max())), step, facing)

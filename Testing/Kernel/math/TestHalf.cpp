@@ -76,6 +76,8 @@ TEST(Half, HalfHoldsExactlyTheFloatsThatRoundTrip)
     const bool roundTrips = std::isfinite(f) && halfToFloat(floatToHalf(f)) == f;
     ASSERT_EQ(halfHolds(f), roundTrips) << std::hexfloat << f;
     if (roundTrips)
+    {
       ASSERT_EQ(halfOfExact(f), floatToHalf(f)) << std::hexfloat << f;
+    }
   }
 }

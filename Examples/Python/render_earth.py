@@ -35,7 +35,6 @@ import vtk
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import sightline
-from sightline import earth
 from sightline.view import ViewError, angles_in_degrees, ramp_volume_property, read_grid
 
 INNER_CORE_KM = 1221.5
@@ -67,8 +66,12 @@ def transfer_functions():
 
 
 def graticule(radius, step_degrees=30):
-    """Parallels and meridians as polylines on a sphere (sightline.earth's, over the globe)."""
-    return earth.graticule_lines(radius, (0.0, math.pi), (0.0, 2 * math.pi), step_degrees)
+    """Parallels and meridians as polylines on a sphere (vtkSightlineGraticuleSource)."""
+    source = sightline.vtkSightlineGraticuleSource()
+    source.SetRadius(radius)
+    source.SetStep(step_degrees)
+    source.Update()
+    return source.GetOutput()
 
 
 def front_graticule(camera, radius, color=(0.85, 0.9, 1.0)):

@@ -8,9 +8,9 @@ around vtkSightlineSphericalVolumeMapper.
   (slow red, fast blue, as tomographers draw them), transparent near zero;
 - cut_away: the grid without an azimuth wedge (or a hemisphere), so that the inside shows;
   exact, since it keeps whole cells;
-- graticule_lines / graticule_actor: parallels and meridians on the model's outer sphere as
-  exact Sightline tubes (so that they show in a window and in GL-free images alike), over the
-  model's own latitude and longitude range, on the side a camera sees.
+- graticule_actor: parallels and meridians (vtkSightlineGraticuleSource) on the model's outer
+  sphere as exact Sightline tubes (so that they show in a window and in GL-free images alike),
+  over the model's own latitude and longitude range, on the side a camera sees.
 """
 import math
 
@@ -145,63 +145,27 @@ def cut_away(grid, centre_longitude, width_degrees):
     return _grid(radius, colatitude, azimuth, arrays, data.GetScalars().GetName())
 
 
-def graticule_lines(radius, colatitude_range, azimuth_range, step_degrees=30.0,
-                    facing=None, samples_per_degree=2):
-    """Parallels and meridians every `step_degrees` on a sphere of `radius`, inside the
-    colatitude and azimuth ranges (radians), as vtkPolyData polylines. With `facing` (a unit
-    vector towards the camera) only the points on that hemisphere are kept."""
-    points, lines = vtk.vtkPoints(), vtk.vtkCellArray()
-    facing = None if facing is None else np.asarray(facing, float) / np.linalg.norm(facing)
-
-    def add(theta, phi):
-        xyz = radius * np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi),
-                                 np.cos(theta)], axis=1)
-        visible = np.ones(len(xyz), bool) if facing is None else xyz @ facing > 0.0
-        # Each run of consecutive visible points is one polyline.
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], visible.astype(int), [0]])))
-        for start, stop in zip(edges[0::2], edges[1::2]):
-            if stop - start >= 2:
-                lines.InsertNextCell(int(stop - start))
-                for q in xyz[start:stop]:
-                    lines.InsertCellPoint(points.InsertNextPoint(*q))
-
-    step = math.radians(step_degrees)
-    t0, t1 = colatitude_range
-    p0, p1 = azimuth_range
-
-    def samples(low, high):
-        return max(2, int(math.degrees(high - low) * samples_per_degree) + 1)
-
-    for theta in np.arange(math.ceil(t0 / step - 1e-9) * step, t1 + 1e-9, step):
-        if 1e-6 < theta < math.pi - 1e-6:  # the poles are points
-            phi = np.linspace(p0, p1, samples(p0, p1))
-            add(np.full_like(phi, theta), phi)
-    meridians = np.arange(math.ceil(p0 / step - 1e-9) * step, p1 + 1e-9, step)
-    if p1 - p0 > 2 * math.pi - 1e-9:  # a whole turn: its last meridian is its first
-        meridians = meridians[meridians < p0 + 2 * math.pi - 1e-9]
-    for phi in meridians:
-        theta = np.linspace(t0, t1, samples(t0, t1))
-        add(theta, np.full_like(theta, phi))
-    polydata = vtk.vtkPolyData()
-    polydata.SetPoints(points)
-    polydata.SetLines(lines)
-    return polydata
-
-
 def graticule_actor(grid, facing=None, step_degrees=30.0, color=(0.85, 0.88, 0.92)):
-    """An actor of exact tubes along the graticule just above `grid`'s outer sphere, over its
-    latitude and longitude range (a spherical grid in the mapper's default convention)."""
+    """An actor of exact tubes along the graticule (vtkSightlineGraticuleSource) just above
+    `grid`'s outer sphere, over its latitude and longitude range (a spherical grid in the
+    mapper's default convention); with `facing` (a direction towards the camera) only on the
+    hemisphere it points to. Regional grids get a finer step (about a quarter of their span)."""
     radius = vtk_to_numpy(grid.GetXCoordinates())
-    colatitude = vtk_to_numpy(grid.GetYCoordinates())
-    azimuth = vtk_to_numpy(grid.GetZCoordinates())
+    colatitude = np.degrees(vtk_to_numpy(grid.GetYCoordinates()))
+    azimuth = np.degrees(vtk_to_numpy(grid.GetZCoordinates()))
     outer = float(radius.max())
-    span = math.degrees(max(np.ptp(colatitude), np.ptp(azimuth)))
-    step = step_degrees if span > 2 * step_degrees else max(1.0, round(span / 4.0))
-    lines = graticule_lines(outer * 1.004, (float(colatitude.min()), float(colatitude.max())),
-                            (float(azimuth.min()), float(azimuth.max())), step, facing)
+    span = max(np.ptp(colatitude), np.ptp(azimuth))
+    source = sightline.vtkSightlineGraticuleSource()
+    source.SetRadius(outer * 1.004)
+    source.SetStep(step_degrees if span > 2 * step_degrees else max(1.0, round(span / 4.0)))
+    source.SetLatitudeRange(90.0 - colatitude.max(), 90.0 - colatitude.min())
+    source.SetLongitudeRange(azimuth.min(), azimuth.max())
+    if facing is not None:
+        source.SetFacingDirection(*facing)
     mapper = sightline.vtkSightlineTubeMapper()
-    mapper.SetInputDataObject(lines)
+    mapper.SetInputConnection(source.GetOutputPort())
     mapper.SetRadius(outer * 0.0022)
+    mapper.ScalarVisibilityOff()
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     actor.GetProperty().SetColor(*color)

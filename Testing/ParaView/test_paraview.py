@@ -577,8 +577,22 @@ class ParaViewPluginTest(unittest.TestCase):
             volume = vtkVolume()
             volume.SetMapper(mapper)
             volume.SetProperty(prop)
-            self.compare_with_vtk(view, reader, rep, volume, "NetCDFModelVolume")
+            before = covered_fraction(
+                self.compare_with_vtk(view, reader, rep, volume, "NetCDFModelVolume"),
+                view.Background)
+            # The graticule over it: 5 parallels and 12 meridians, drawn as Sightline Tubes.
+            graticule = SightlineGraticule(Radius=6400.0)  # noqa: F821  (LoadPlugin)
+            graticule.UpdatePipeline()
+            self.assertEqual(graticule.GetDataInformation().GetNumberOfCells(), 17)
+            lines = Show(graticule, view)
+            lines.Representation = "Sightline Tubes"
+            lines.TubeRadius = 15.0
+            Render(view)
+            pixels = view_image(view)
+            save_png(pixels, "ParaViewNetCDFModelGraticule.png")
+            self.assertGreater(covered_fraction(pixels, view.Background), before + 0.005)
             Delete(view)
+            Delete(graticule)
             Delete(reader)
 
 

@@ -450,6 +450,48 @@ class View(unittest.TestCase):
         self.assertIn("'vp' is not in the file", result.stderr)
 
 
+class Graticule(unittest.TestCase):
+    def lines(self, **settings):
+        source = sightline.vtkSightlineGraticuleSource()
+        for key, value in settings.items():
+            getattr(source, "Set" + key)(*value) if isinstance(value, tuple) else \
+                getattr(source, "Set" + key)(value)
+        source.Update()
+        out = source.GetOutput()
+        points = vtk_to_numpy(out.GetPoints().GetData())
+        lat = vtk_to_numpy(out.GetPointData().GetArray("Latitude"))
+        lon = vtk_to_numpy(out.GetPointData().GetArray("Longitude"))
+        return out, points, lat, lon
+
+    def test_lines_lie_on_the_sphere_at_their_latitude_and_longitude(self):
+        out, points, lat, lon = self.lines(Radius=6371.0, Step=30.0)
+        self.assertEqual(out.GetNumberOfLines(), 5 + 12)  # parallels -60..60, 12 meridians
+        np.testing.assert_allclose(np.linalg.norm(points, axis=1), 6371.0, rtol=1e-12)
+        np.testing.assert_allclose(np.degrees(np.arcsin(points[:, 2] / 6371.0)), lat, atol=1e-9)
+        away_from_poles = np.abs(lat) < 89.9
+        east = np.degrees(np.arctan2(points[:, 1], points[:, 0]))
+        offset = np.mod(east - lon + 180.0, 360.0) - 180.0
+        np.testing.assert_allclose(offset[away_from_poles], 0.0, atol=1e-9)
+        meridians = np.unique(np.round(lon[np.abs(np.mod(lat, 30.0)) > 1e-6], 9))
+        np.testing.assert_allclose(meridians, np.arange(0.0, 360.0, 30.0))
+
+    def test_regional_range_across_the_antimeridian(self):
+        out, points, lat, lon = self.lines(Radius=1.0, Step=10.0, LatitudeRange=(-30.0, 30.0),
+                                           LongitudeRange=(150.0, 210.0))
+        self.assertEqual(out.GetNumberOfLines(), 7 + 7)
+        self.assertTrue(np.all((lat >= -30 - 1e-9) & (lat <= 30 + 1e-9)))
+        self.assertTrue(np.all((lon >= 150 - 1e-9) & (lon <= 210 + 1e-9)))
+
+    def test_facing_keeps_the_near_hemisphere(self):
+        facing = np.array([0.3, -0.8, 0.5])
+        whole, _, _, _ = self.lines(Radius=2.0, Step=15.0)
+        near, points, _, _ = self.lines(Radius=2.0, Step=15.0, FacingDirection=tuple(facing))
+        self.assertTrue(np.all(points @ facing > 0))
+        self.assertGreater(near.GetNumberOfLines(), 0)
+        self.assertLess(near.GetNumberOfPoints(), 0.6 * whole.GetNumberOfPoints())
+        self.assertGreater(near.GetNumberOfPoints(), 0.4 * whole.GetNumberOfPoints())
+
+
 class CutAway(unittest.TestCase):
     def test_wedge_keeps_whole_cells_round_the_seam(self):
         path = Path.new("cut")

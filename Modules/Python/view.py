@@ -792,7 +792,20 @@ def angles_in_degrees(grid, coordinates="spherical"):
     return any(np.abs(vtk_to_numpy(axis)).max() > 2 * math.pi + 1e-6 for axis in angles)
 
 
-class VolumeLayer(Layer):
+class GridVolumeLayer(Layer):
+    """What the volume layers share: one vtkVolume whose opacity unit distance 'o' stretches,
+    and a one-line description (self.text)."""
+
+    def set_translucent(self, on):
+        prop = self.volumes[0].GetProperty()
+        prop.SetScalarOpacityUnitDistance(self.unit_distance * (4.0 if on else 1.0))
+        return True
+
+    def describe(self):
+        return f"{self.path}: {self.text}"
+
+
+class VolumeLayer(GridVolumeLayer):
     """A spherical or cylindrical vtkRectilinearGrid (.vtr), ray-cast on its own cells."""
 
     def __init__(self, path, extension, args):
@@ -824,16 +837,9 @@ class VolumeLayer(Layer):
                      f"'{scalars.GetName()}' on {association} in [{low:.4g}, {high:.4g}], "
                      f"angles in {'degrees' if degrees else 'radians'}")
 
-    def set_translucent(self, on):
-        prop = self.volumes[0].GetProperty()
-        prop.SetScalarOpacityUnitDistance(self.unit_distance * (4.0 if on else 1.0))
-        return True
-
-    def describe(self):
-        return f"{self.path}: {self.text}"
 
 
-class EarthModelLayer(Layer):
+class EarthModelLayer(GridVolumeLayer):
     """A CF netCDF model (longitude, latitude, depth or radius) as an exact spherical volume
     on the globe: perturbations in a diverging map centred on zero, a graticule of exact tubes
     on the outer sphere, and optionally a wedge or hemisphere cut away facing the camera."""
@@ -889,13 +895,6 @@ class EarthModelLayer(Layer):
                      + (f", {missing} missing" if missing else "")
                      + (f", {args.cut} cut away" if args.cut else ""))
 
-    def set_translucent(self, on):
-        prop = self.volumes[0].GetProperty()
-        prop.SetScalarOpacityUnitDistance(self.unit_distance * (4.0 if on else 1.0))
-        return True
-
-    def describe(self):
-        return f"{self.path}: {self.text}"
 
     def frame_points(self):
         """Points on the outer sphere (its box's corners would frame the globe loosely)."""

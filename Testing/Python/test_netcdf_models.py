@@ -34,18 +34,24 @@ EARTH_KM = model.EARTH_KM
 TEMP = os.environ.get("SIGHTLINE_TEST_TEMP_DIR") or tempfile.gettempdir()
 
 
-def read(path, **settings):
-    reader = sightline.vtkSightlineNetCDFSphericalReader()
-    reader.SetFileName(path)
-    for key, value in settings.items():
-        getattr(reader, "Set" + key)(value)
+def errors_of(algorithm):
+    """The list that collects `algorithm`'s error messages."""
     errors = []
 
     @calldata_type(VTK_STRING)
     def on_error(caller, event, message):
         errors.append(message)
 
-    reader.AddObserver(vtk.vtkCommand.ErrorEvent, on_error)
+    algorithm.AddObserver(vtk.vtkCommand.ErrorEvent, on_error)
+    return errors
+
+
+def read(path, **settings):
+    reader = sightline.vtkSightlineNetCDFSphericalReader()
+    reader.SetFileName(path)
+    for key, value in settings.items():
+        getattr(reader, "Set" + key)(value)
+    errors = errors_of(reader)
     reader.Update()
     return reader, reader.GetOutput(), errors
 
@@ -374,13 +380,7 @@ class Hardening(unittest.TestCase):
         reader = sightline.vtkSightlineNetCDFSphericalReader()
         reader.SetInputString(data)
         reader.ReadFromInputStringOn()
-        errors = []
-
-        @calldata_type(VTK_STRING)
-        def on_error(caller, event, message):
-            errors.append(message)
-
-        reader.AddObserver(vtk.vtkCommand.ErrorEvent, on_error)
+        errors = errors_of(reader)
         reader.Update()
         return reader.GetOutput(), errors
 

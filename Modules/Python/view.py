@@ -870,7 +870,12 @@ class EarthModelLayer(GridVolumeLayer):
                 grid = earth.cut_away(grid, longitude, 90.0 if args.cut == "wedge" else 180.0)
         except earth.ModelError as error:
             raise ViewError(f"{path}: {error}") from None
-        lat, lon = math.radians(args.view_latitude), math.radians(longitude)
+        colatitude = vtk_to_numpy(grid.GetYCoordinates())
+        latitude = args.view_latitude
+        if latitude is None:  # the middle of a regional model's latitudes; 20 N for a globe
+            latitude = 20.0 if np.ptp(colatitude) > math.pi - 1e-6 else 90.0 - math.degrees(
+                0.5 * (colatitude[0] + colatitude[-1]))
+        lat, lon = math.radians(latitude), math.radians(longitude)
         self.view_direction = np.array([math.cos(lat) * math.cos(lon),
                                         math.cos(lat) * math.sin(lon), math.sin(lat)])
         mapper = sightline.vtkSightlineSphericalVolumeMapper()
@@ -897,12 +902,15 @@ class EarthModelLayer(GridVolumeLayer):
 
 
     def frame_points(self):
-        """Points on the outer sphere (its box's corners would frame the globe loosely)."""
-        k = np.arange(400) + 0.5
-        z = 1.0 - 2.0 * k / 400
-        phi = math.pi * (1.0 + math.sqrt(5.0)) * k
-        ring = np.sqrt(1.0 - z * z)
-        return self.outer * np.stack([ring * np.cos(phi), ring * np.sin(phi), z], axis=1)
+        """Points on the model's section: its inner and outer spheres over its latitude and
+        longitude range (the box's corners would frame a globe loosely, a cap far too wide)."""
+        r = vtk_to_numpy(self.grid.GetXCoordinates())
+        theta = vtk_to_numpy(self.grid.GetYCoordinates())
+        phi = vtk_to_numpy(self.grid.GetZCoordinates())
+        R, T, P = np.meshgrid([r[0], r[-1]], np.linspace(theta[0], theta[-1], 19),
+                              np.linspace(phi[0], phi[-1], 37), indexing="ij")
+        return np.stack([R * np.sin(T) * np.cos(P), R * np.sin(T) * np.sin(P), R * np.cos(T)],
+                        axis=-1).reshape(-1, 3)
 
 
 def load(path, args):
@@ -1323,8 +1331,9 @@ def parse_arguments(argv):
     earth.add_argument("--view-longitude", type=float, metavar="DEG",
                        help="look from above this longitude (default: the model's middle, 0 E "
                             "for a global one); the cut is centred on it")
-    earth.add_argument("--view-latitude", type=float, default=20.0, metavar="DEG",
-                       help="look from above this latitude (default 20)")
+    earth.add_argument("--view-latitude", type=float, metavar="DEG",
+                       help="look from above this latitude (default: the model's middle, 20 N "
+                            "for a global one)")
     earth.add_argument("--reference-radius", type=float, default=6371.0, metavar="KM",
                        help="radius depths are measured from (default 6371, the Earth)")
     earth.add_argument("--vertical", choices=("auto", "depth", "radius", "altitude"),

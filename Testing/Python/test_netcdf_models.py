@@ -132,6 +132,18 @@ class NodesAreWhereTheModelPutsThem(unittest.TestCase):
                 self.assertAlmostEqual(phi[-1] - phi[0], 60.0, places=9)
                 self.assertAlmostEqual(np.mod(phi[0], 360.0), 150.0, places=9)
 
+    def test_polar_cap_and_equatorial_band(self):
+        # A cap reaching the pole (colatitude 0 is a node) and a band closed round the globe.
+        for name, region, shape in (("cap", (60.0, 90.0, 0.0, 355.0), (7, 73)),
+                                    ("band", (-10.0, 10.0, 0.0, 355.0), (5, 73))):
+            with self.subTest(name):
+                path = Path.new(name)
+                model.write_model(path, step=5.0, region=region, latitude_descending=True)
+                grid = self.check(path, True)
+                self.assertEqual(grid.GetDimensions()[1:], shape)
+                theta = np.degrees(vtk_to_numpy(grid.GetYCoordinates()))
+                self.assertAlmostEqual(theta[0], 90.0 - region[1], places=9)
+
     def test_reference_radius_and_vertical_override(self):
         path = Path.new("mars")
         model.write_model(path, step=30.0)

@@ -26,6 +26,9 @@
  * Every axis is written increasing, whatever order the file stores (e.g. latitude from north
  * to south, depth increasing = radius decreasing); the values follow their nodes.
  *
+ * The field data holds "ReferenceRadius" (km), the radius depths were measured from, for
+ * whatever is drawn with the model (a graticule, stations).
+ *
  * Values: `scale_factor` and `add_offset` are applied; `_FillValue` (or netCDF's default fill
  * without one) and `missing_value` become NaN, which the mapper draws as empty cells. double
  * variables stay double, all others become float.

@@ -883,7 +883,6 @@ class EarthModelLayer(GridVolumeLayer):
         Progress(f"volume of {os.path.basename(path)}").watch(mapper)
         prop = earth.diverging_volume_property(low, high)
         outer = float(vtk_to_numpy(grid.GetXCoordinates()).max())
-        self.outer = outer
         self.unit_distance = outer / 40.0  # features a few hundred km across read as solid
         prop.SetScalarOpacityUnitDistance(self.unit_distance)
         volume = vtk.vtkVolume()

@@ -35,7 +35,8 @@ public:
     {
       this->Facing[i] = this->Clipped ? facing[i] / norm : 0.0;
     }
-    this->Points->SetDataTypeToDouble(); // on the sphere to the last digit
+    // Double points: float32 would put them up to 5e-4 km off an Earth-sized sphere.
+    this->Points->SetDataTypeToDouble();
     this->Latitudes->SetName("Latitude");
     this->Longitudes->SetName("Longitude");
   }

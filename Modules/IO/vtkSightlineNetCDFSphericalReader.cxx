@@ -17,11 +17,16 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include "vtk_netcdf.h"
-// nc_open_mem (fuzzing and ReadFromInputString), beside the netcdf.h VTK chose.
+// nc_open_mem (fuzzing and ReadFromInputString), beside the netcdf.h VTK chose. VTK's own
+// netCDF builds it but installs its header only up to VTK 9.3 (not in the VTK 9.5 SDK), so
+// there it is declared as netCDF documents it; VTK's mangling header renames it as it renames
+// the rest of netCDF's API.
 #if VTK_MODULE_USE_EXTERNAL_vtknetcdf
 #include <netcdf_mem.h>
-#else
+#elif __has_include(<vtknetcdf/include/netcdf_mem.h>)
 #include <vtknetcdf/include/netcdf_mem.h>
+#else
+extern "C" int nc_open_mem(const char* path, int mode, size_t size, void* memory, int* ncid);
 #endif
 
 #include <algorithm>

@@ -8,7 +8,7 @@
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
 #include "vtkShaderProgram.h"
-#include "vtk_glew.h"
+#include "SightlineOpenGL.h"
 
 #include <algorithm>
 #include <string>

@@ -20,7 +20,8 @@ packages=(
   python3-numpy python3-matplotlib    # Python tests and benchmark plots
   python3-dipy python3-nibabel        # real data: DIPY's tractography, NIfTI/TrackVis readers
   python3-netcdf4 libnetcdf-dev       # CF netCDF Earth models: the tests write them; VTK's netcdf
-  python3-venv                        # trx-python from PyPI for the TRX tests (trx-python-env.sh)
+  python3-venv                        # trx-python, PyVista from PyPI for tests (python-test-env.sh)
+  python3-typing-extensions           # PyVista (sightline.pyvista) runs on Debian's VTK with it
   mrtrix3                             # sh2amp: an independent reference for the MRtrix3 SH basis
   paraview paraview-dev               # ParaView (5.11 on 12, 5.13 on 13) and its own VTK
   mpi-default-bin                     # mpirun (Open MPI) for the plugin's MPI tests

@@ -17,6 +17,7 @@ packages=(
   libembree-dev libglm-dev libtbb-dev libopenimageio-dev openimageio-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth libgl1-mesa-dri          # offscreen OpenGL for VTK's X-only build
+  libegl1 libegl-mesa0 libosmesa6     # EGL and OSMesa for PyPI's VTK (scripts/pypi-vtk-check.sh)
   python3-numpy python3-matplotlib    # Python tests and benchmark plots
   python3-dipy python3-nibabel        # real data: DIPY's tractography, NIfTI/TrackVis readers
   python3-netcdf4 libnetcdf-dev       # CF netCDF Earth models: the tests write them; VTK's netcdf

@@ -11,9 +11,11 @@
 # Platforms: Debian 12 and 13 (scripts/platform.sh). On Debian 12 the same command then runs
 # again on Debian 13, in a Debian 13 root made with debootstrap under the build folder
 # (scripts/debian13.sh; kept between runs): one source tree, both platforms' suites.
-# SIGHTLINE_DEBIAN13=0 skips that second run. There the sanitizer job is left out unless
-# SIGHTLINE_DEBIAN13_SANITIZE=1: it checks the same code as here, and would add about 19 of
-# CI's 90 minutes on 2 cores (on Debian 13 itself test.sh runs it, with the default clang).
+# SIGHTLINE_DEBIAN13=0 skips that second run. There the modules are also checked on PyPI's
+# VTK wheel through EGL and OSMesa with no X server (scripts/pypi-vtk-check.sh), and the
+# sanitizer job is left out unless SIGHTLINE_DEBIAN13_SANITIZE=1: it checks the same code as
+# here, and would add about 19 of CI's 90 minutes on 2 cores (on Debian 13 itself test.sh runs
+# it, with the default clang).
 #
 # Rendering tests open VTK windows, so ctest runs with a virtual X server of our own, started
 # with -noreset: by default an X server resets itself whenever its last client disconnects,
@@ -65,6 +67,13 @@ status=0
 (cd "$build" && ctest --output-on-failure --timeout 600 "$@") || status=$?
 tested=$(date +%s)
 echo "build: $((built - start)) s, tests: $((tested - built)) s"
+
+# PyPI's VTK (9.5.0 wheel, PyVista 0.48) offscreen through EGL and OSMesa with no X server:
+# this build's modules and wrappers recompiled against the wheel (scripts/pypi-vtk-check.sh).
+# Debian 13 only (its VTK 9.3 wrapper generator); SIGHTLINE_PYPI_VTK=0 skips it.
+if [ "$SIGHTLINE_DEBIAN" = 13 ] && [ "${SIGHTLINE_PYPI_VTK:-1}" != 0 ]; then
+  "$root/scripts/pypi-vtk-check.sh" "$build" || status=$?
+fi
 
 # The ParaView configuration: the same modules against ParaView's own VTK (5.11's 9.2 on Debian
 # 12, 5.13's 9.3 on 13), the plugin, and its pvbatch tests (label paraview).

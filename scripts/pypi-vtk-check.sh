@@ -7,7 +7,8 @@
 # It recompiles, with the wheel's C++ ABI (-D_GLIBCXX_USE_CXX11_ABI=0), exactly what ninja
 # compiles for the kernel and the VTK modules of BUILD (a Debian build with Python wrapping),
 # with VTK 9.5.0's headers in place of Debian's; links the result with --no-undefined against
-# the wheel's libraries; and runs Python.PyVista's tests in a virtual environment holding only
+# the wheel's libraries; and runs the PyVista tests (and the self-contained sphere, spherical
+# volume and tensor glyph tests) in a virtual environment holding only
 # PyPI's VTK, with DISPLAY unset and VTK_DEFAULT_OPENGL_WINDOW set to vtkEGLRenderWindow and to
 # vtkOSOpenGLRenderWindow (each test run asserts the window class and Mesa's llvmpipe).
 #
@@ -96,16 +97,19 @@ done
 cp "$build"/lib/python3/dist-packages/sightline/*.py "$package/"
 
 # 5. The tests, offscreen, with only PyPI's VTK in the process.
+# PyVista's (every primitive, depth with PyVista meshes, translucent tubes, selection; the window
+# class), and the self-contained ones of Python.Spheres, SphericalVolume and TensorGlyphs.
+tests="test_pyvista test_spheres test_spherical_volume test_tensor_glyphs"
 status=0
 for window in vtkEGLRenderWindow vtkOSOpenGLRenderWindow; do
-  echo "pypi-vtk-check: Python.PyVista through $window (DISPLAY unset)"
+  echo "pypi-vtk-check: $tests through $window (DISPLAY unset)"
   (cd "$root/Testing/Python" &&
     env -u DISPLAY VTK_DEFAULT_OPENGL_WINDOW="$window" SIGHTLINE_EXPECT_WINDOW="$window" \
       PYTHONPATH="$work/python" SIGHTLINE_TEST_TEMP_DIR="$work" \
       "$venv/bin/python" -c "import vtkmodules, sys; sys.exit(0 if vtkmodules.__file__.startswith('$venv') else 'not the wheel VTK')" &&
     env -u DISPLAY VTK_DEFAULT_OPENGL_WINDOW="$window" SIGHTLINE_EXPECT_WINDOW="$window" \
       PYTHONPATH="$work/python" SIGHTLINE_TEST_TEMP_DIR="$work" \
-      "$venv/bin/python" -m unittest -v test_pyvista) || status=1
+      "$venv/bin/python" -m unittest -v $tests) || status=1
 done
 echo "pypi-vtk-check: VTK $vtk_version wheel, PyVista $pyvista_version: $(($(date +%s) - start)) s," \
   "$([ $status = 0 ] && echo passed || echo FAILED)"

@@ -16,6 +16,7 @@ import matplotlib
 import numpy as np
 import pyvista as pv
 import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
 
 import sightline
 import sightline.pyvista
@@ -136,6 +137,43 @@ class Images(unittest.TestCase):
         self.assertAlmostEqual(column.sum(), 2 * radius / PIXEL, delta=1.0)
         area = (2 * radius * length + math.pi * radius ** 2) / PIXEL ** 2
         self.assertAlmostEqual(covered.sum() / area, 1.0, delta=0.02)
+
+    def test_crossing_translucent_tubes_blend_once_over_an_ordinary_plane(self):
+        # Two crossing tubes at opacity 0.5 are one translucent union: a ray crosses its surface
+        # twice (in and out), where they cross exactly as where one tube covers the plane, so
+        # a quarter of the white plane shows through: (1, 0.25, 0.25) everywhere on the tubes.
+        p = plotter()
+        lines = pv.Line((-4, 0, 0.5), (4, 0, 0.5)).merge(pv.Line((0, -4, 0.5), (0, 4, 0.5)))
+        p.sightline.add_tubes(lines, radius=0.5, color="red", opacity=0.5, lighting=False)
+        p.add_mesh(pv.Plane(center=(0, 0, -1), i_size=20, j_size=20), color="white",
+                   lighting=False)
+        look_down(p)
+        shot = p.screenshot(return_img=True)
+        p.close()
+        blend = np.array([255, 0.25 * 255, 0.25 * 255])
+        for x, y in ((0.0, 0.0), (2.5, 0.0), (0.0, -2.5)):
+            self.assertLessEqual(np.abs(centre_pixel(shot, x, y) - blend).max(), 3, (x, y))
+        self.assertLessEqual(np.abs(centre_pixel(shot, 2.5, 2.5) - 255).max(), 1)
+
+    def test_selection_names_the_sphere_under_a_pixel(self):
+        centres = np.array([[-3.0, 0.0, 0.0], [0.0, 2.0, 0.0], [3.0, -1.0, 0.0]])
+        p = plotter()
+        actor = p.sightline.add_spheres(centres, radius=0.8, color="white")
+        look_down(p)
+        p.screenshot(return_img=True)
+        selector = vtk.vtkHardwareSelector()
+        selector.SetRenderer(p.renderer)
+        selector.SetFieldAssociation(vtk.vtkDataObject.FIELD_ASSOCIATION_POINTS)
+        for index, (x, y, _) in enumerate(centres):
+            column = int(round(WIDTH / 2 + x / PIXEL))
+            row = int(round(HEIGHT / 2 + y / PIXEL))  # display rows count from the bottom
+            selector.SetArea(column, row, column, row)
+            selection = selector.Select()
+            self.assertEqual(selection.GetNumberOfNodes(), 1, index)
+            node = selection.GetNode(0)
+            self.assertIs(node.GetProperties().Get(vtk.vtkSelectionNode.PROP()), actor)
+            self.assertEqual(list(vtk_to_numpy(node.GetSelectionList())), [index])
+        p.close()
 
     def test_order_zero_sh_glyphs_are_spheres_of_the_scale(self):
         # A constant ODF has one lobe everywhere: normalised to its largest amplitude it is a

@@ -88,6 +88,16 @@ def _named_array(data, scalars, what, preference="point"):
                          f"{data.n_cells} cells")
 
 
+def _colour_range(values, clim):
+    """clim, or the finite values' range (0..1 when there are none), never empty."""
+    if clim is None:
+        finite = values[np.isfinite(values)]
+        clim = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    if not clim[1] > clim[0]:
+        clim = (clim[0], clim[0] + 1.0)
+    return clim
+
+
 class SightlinePlotterComponent:
     """`plotter.sightline`: Sightline's exact primitives added to a PyVista plotter."""
 
@@ -207,11 +217,7 @@ class SightlinePlotterComponent:
         else:
             data.GetCellData().SetActiveScalars(name_)
         values = (data.point_data if association == "point" else data.cell_data)[name_]
-        finite = np.asarray(values)[np.isfinite(values)]
-        if clim is None:
-            clim = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-        if not clim[1] > clim[0]:
-            clim = (clim[0], clim[0] + 1.0)
+        clim = _colour_range(np.asarray(values), clim)
         table = pyvista.LookupTable(cmap=cmap or self._plotter.theme.cmap)
         table.scalar_range = clim
         count = table.n_values
@@ -281,11 +287,7 @@ class SightlinePlotterComponent:
                                  else data.cell_data)[array_name], dtype=float)
             if values.ndim > 1:
                 values = np.linalg.norm(values, axis=1)
-            finite = values[np.isfinite(values)]
-            if clim is None:
-                clim = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-            if not clim[1] > clim[0]:
-                clim = (clim[0], clim[0] + 1.0)
+            clim = _colour_range(values, clim)
             table = pyvista.LookupTable(cmap=cmap or theme.cmap)
             table.scalar_range = clim
             mapper.SetLookupTable(table)

@@ -386,7 +386,8 @@ std::uint32_t TubeSet::selectionIndex(unsigned primitive, std::uint32_t part) co
 {
   if (!Chunked)
     return primitive;
-  return part != SurfaceHit::kNoPart ? part / 2 : Chunks[primitive].firstNode;
+  const std::uint32_t node = part != SurfaceHit::kNoPart ? part / 2 : Chunks[primitive].firstNode;
+  return SelectedNode.empty() ? node : SelectedNode[node];
 }
 
 std::int32_t TubeSet::predecessorOf(std::uint32_t node) const
@@ -708,6 +709,7 @@ std::size_t TubeSet::memoryBytes() const
   return Nodes.capacity() * sizeof(vec4) + Predecessors.capacity() * sizeof(std::int32_t) +
     StumpEnds.capacity() * sizeof(std::uint32_t) + Stumps.capacity() * sizeof(StoredStump) +
     Colors.capacity() * sizeof(std::uint32_t) + SourceIndex.capacity() * sizeof(std::uint32_t) +
+    SelectedNode.capacity() * sizeof(std::uint32_t) +
     Compact.capacity() * sizeof(Half3) + Wide.capacity() * sizeof(vec3) +
     Chunks.capacity() * sizeof(ChunkEntry) + Radii.capacity() * sizeof(float);
 }
@@ -730,12 +732,13 @@ TubeRunBuilder::TubeRunBuilder(const dvec3& origin, unsigned chunkSize, bool wit
   Set->Chunked = true;
 }
 
-void TubeRunBuilder::reserve(std::size_t points)
+void TubeRunBuilder::reserve(std::size_t points, std::size_t runs)
 {
-  // The positions reserve when their first chunk is stored; tubes end a chunk early, allow
-  // for one end in 48 points (streamlines of 20-200 mm at 0.5-1 mm steps have 40-400).
+  // The positions reserve when their first chunk is stored; tubes end a chunk early: where the
+  // runs are not known, allow for one end in 48 points (streamlines of 20-200 mm at 0.5-1 mm
+  // steps have 40-400).
   Set->ReserveHint = points;
-  Set->ChunkHint = points / Set->Layout.chunkSize + points / 48 + 1;
+  Set->ChunkHint = points / Set->Layout.chunkSize + (runs > 0 ? runs : points / 48) + 1;
   Set->Chunks.reserve(Set->ChunkHint + 1);
   if (WithColors)
     Set->Colors.reserve(points);

@@ -59,6 +59,8 @@ struct TubeLayout
 };
 
 class TubeRunBuilder;
+struct OuterLinkOptions;
+struct OuterLinkReport;
 
 class TubeSet : public UserGeometry<TubeSet>
 {
@@ -93,7 +95,10 @@ public:
   vec3 partColor(std::uint32_t part) const override;
   /// Chunked: a pick names the link (node) hit; other layouts: the primitive (as before).
   std::uint32_t selectionIndex(unsigned primitive, std::uint32_t part) const override;
-  std::size_t selectionCount() const override { return Chunked ? NodeCount : size(); }
+  std::size_t selectionCount() const override
+  {
+    return !SelectedNode.empty() ? SelectionTotal : Chunked ? NodeCount : size();
+  }
 
   Box3 bounds(unsigned primitive) const;
   bool intersect(unsigned primitive, const DoubleRay& ray, SurfaceHit& hit) const;
@@ -129,6 +134,7 @@ public:
 
 private:
   friend class TubeRunBuilder;
+  friend std::shared_ptr<TubeSet> outerLinks(const TubeSet&, const OuterLinkOptions&, OuterLinkReport*);
   TubeSet() = default;
   /// What both public constructors do, once Origin is set.
   void construct(const std::vector<vec3>& points, const std::vector<float>& radii,
@@ -225,6 +231,10 @@ private:
   std::size_t ReserveHint = 0;     ///< building: points expected (TubeRunBuilder::reserve)
   std::size_t ChunkHint = 0;       ///< building: chunks expected
   std::vector<std::uint32_t> Colors;
+  /// outerLinks(): the node of the whole set each node stands for in picks, and that set's
+  /// selectionCount(); empty for a whole set.
+  std::vector<std::uint32_t> SelectedNode;
+  std::size_t SelectionTotal = 0;
   Box3 AllBounds;
   ValidationReport Report;
 };
@@ -242,8 +252,9 @@ public:
   explicit TubeRunBuilder(const dvec3& origin = dvec3(0.0),
     unsigned chunkSize = TubeLayout::kDefaultChunkSize, bool withColors = false);
 
-  /// Room for `points` control points in all, to spare the copies of growing vectors (a hint).
-  void reserve(std::size_t points);
+  /// Room for `points` control points in all, in `runs` runs where known, to spare the copies
+  /// of growing vectors (a hint).
+  void reserve(std::size_t points, std::size_t runs = 0);
   /// One tube through `count` points: `radii` one per point; `colors` (RGBA8) one per point,
   /// given exactly when the builder was made withColors. Throws std::invalid_argument past
   /// 2^31 - 1 points in all.

@@ -1,0 +1,397 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "sightline/tubes/TubeInterior.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace sightline
+{
+TubeInteriorGrid::TubeInteriorGrid(const Box3& bounds, double voxel)
+  : Lower(dvec3(bounds.lower))
+  , Voxel(voxel)
+{
+  if (!(voxel > 0.0) || !std::isfinite(voxel) || bounds.empty() || !isFinite(bounds.lower) ||
+    !isFinite(bounds.upper))
+    throw std::invalid_argument("sightline::TubeInteriorGrid: needs finite, non-empty bounds and a positive voxel");
+  const dvec3 upper(bounds.upper);
+  // Sample points and voxel indices are computed in double from float positions: allow far more
+  // than their rounding.
+  Slack = 1e-9 * std::max({ glm::length(Lower), glm::length(upper), voxel });
+  std::size_t bricks = 1;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double cells = std::ceil((upper[axis] - Lower[axis]) / voxel) + 1.0;
+    if (cells > 1e9)
+      throw std::invalid_argument("sightline::TubeInteriorGrid: too many voxels along an axis");
+    VoxelDims[axis] = std::int64_t(cells);
+    BrickDims[axis] = ((VoxelDims[axis] + 7) / 8) * 2; // an even count: tiles of 2x2x2 bricks
+    bricks *= std::size_t(BrickDims[axis]);
+  }
+  Bricks = Table(bricks); // zeroed: value-initialised
+}
+
+bool TubeInteriorGrid::coverLink(const vec4& a, const vec4& b)
+{
+  std::vector<Mark> marks;
+  const bool marked = collectMarks(a, b, marks);
+  applyMarks(marks);
+  return marked;
+}
+
+void TubeInteriorGrid::coverLinks(const vec4* starts, const vec4* ends, std::size_t count, std::vector<Mark>& marks)
+{
+  // Gathered first, with their words prefetched, then set: the words of a run's links lie far
+  // apart in the grid, and waiting for them one at a time was most of the time.
+  marks.clear();
+  for (std::size_t i = 0; i < count; ++i)
+    collectMarks(starts[i], ends[i], marks);
+  applyMarks(marks);
+}
+
+bool TubeInteriorGrid::collectMarks(const vec4& a, const vec4& b, std::vector<Mark>& marks) const
+{
+  // Every point of a voxel holding q lies within voxel * sqrt(3) of q; where q is on the axis,
+  // the link's solid (the hull of its end spheres) holds the ball of the smaller radius about q.
+  const double reach = Voxel * std::sqrt(3.0) + Slack;
+  if (!(double(std::min(a.w, b.w)) > reach))
+    return false;
+  // In voxel units; indices by truncation (floor for the non-negative values inside the grid).
+  const double inverse = 1.0 / Voxel;
+  const dvec3 from = (dvec3(vec3(a)) - Lower) * inverse;
+  const dvec3 span = (dvec3(vec3(b)) - dvec3(vec3(a))) * inverse;
+  // Samples a voxel apart: where tubes fill space a hundred times over, each voxel still gets
+  // about 20 (half as far apart took twice as long for no more hidden links at 10^9 links).
+  // Where both ends' bricks are already full (most links, once a dense region has been
+  // marked), the link adds nothing but the odd voxel of a brick between: skipped, which only
+  // ever marks less.
+  const dvec3 to = from + span;
+  if (from.x >= 0.0 && from.y >= 0.0 && from.z >= 0.0 && to.x >= 0.0 && to.y >= 0.0 && to.z >= 0.0 &&
+    from.x < double(VoxelDims[0]) && from.y < double(VoxelDims[1]) && from.z < double(VoxelDims[2]) &&
+    to.x < double(VoxelDims[0]) && to.y < double(VoxelDims[1]) && to.z < double(VoxelDims[2]))
+  {
+    const auto full = [this](const dvec3& q)
+    {
+      return Bricks[brickOf(std::int64_t(q.x) >> 2, std::int64_t(q.y) >> 2, std::int64_t(q.z) >> 2)].load(
+               std::memory_order_relaxed) == ~std::uint64_t(0);
+    };
+    if (full(from) && full(to))
+      return true;
+  }
+  const int steps = std::max(1, int(std::ceil(glm::length(span))));
+  const dvec3 step = span / double(steps);
+  std::size_t last = ~std::size_t(0);
+  for (int k = 0; k <= steps; ++k)
+  {
+    const dvec3 q = from + step * double(k);
+    if (!(q.x >= 0.0 && q.y >= 0.0 && q.z >= 0.0 && q.x < double(VoxelDims[0]) &&
+          q.y < double(VoxelDims[1]) && q.z < double(VoxelDims[2])))
+      continue;
+    const std::int64_t x = std::int64_t(q.x), y = std::int64_t(q.y), z = std::int64_t(q.z);
+    const std::size_t voxel = std::size_t(x + VoxelDims[0] * (y + VoxelDims[1] * z));
+    if (voxel == last)
+      continue;
+    last = voxel;
+    const std::size_t brick = brickOf(x >> 2, y >> 2, z >> 2);
+    __builtin_prefetch(&Bricks[brick]);
+    marks.push_back(Mark{ brick, std::uint64_t(1) << ((x & 3) + 4 * (y & 3) + 16 * (z & 3)) });
+  }
+  return true;
+}
+
+void TubeInteriorGrid::applyMarks(const std::vector<Mark>& marks)
+{
+  for (const Mark& mark : marks)
+  {
+    std::atomic<std::uint64_t>& word = Bricks[mark.brick];
+    if (!(word.load(std::memory_order_relaxed) & mark.bit))
+      word.fetch_or(mark.bit, std::memory_order_relaxed);
+  }
+}
+
+void TubeInteriorGrid::summarize()
+{
+  for (int axis = 0; axis < 3; ++axis)
+    BlockDims[axis] = (BrickDims[axis] + 3) / 4;
+  FullBlocks.assign(std::size_t(BlockDims[0] * BlockDims[1] * BlockDims[2]), 0);
+  tbb::parallel_for(std::int64_t(0), BlockDims[2], [&](std::int64_t bz)
+    {
+      for (std::int64_t by = 0; by < BlockDims[1]; ++by)
+        for (std::int64_t bx = 0; bx < BlockDims[0]; ++bx)
+        {
+          bool full = 4 * bx + 3 < BrickDims[0] && 4 * by + 3 < BrickDims[1] && 4 * bz + 3 < BrickDims[2];
+          for (std::int64_t z = 4 * bz; full && z < 4 * bz + 4; ++z)
+            for (std::int64_t y = 4 * by; full && y < 4 * by + 4; ++y)
+              for (std::int64_t x = 4 * bx; full && x < 4 * bx + 4; ++x)
+                full = Bricks[brickOf(x, y, z)].load(std::memory_order_relaxed) == ~std::uint64_t(0);
+          FullBlocks[std::size_t((bz * BlockDims[1] + by) * BlockDims[0] + bx)] = full;
+        }
+    });
+}
+
+bool TubeInteriorGrid::covers(const Box3& box) const
+{
+  // In brick units; indices by truncation (floor, as both are non-negative here).
+  const double inverse = 0.25 / Voxel;
+  std::int64_t lo[3], hi[3];
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const double l = (double(box.lower[axis]) - Lower[axis] - Slack) * inverse;
+    const double h = (double(box.upper[axis]) - Lower[axis] + Slack) * inverse;
+    if (!(l >= 0.0) || !(h < double(BrickDims[axis])))
+      return false;
+    lo[axis] = std::int64_t(l);
+    hi[axis] = std::int64_t(h);
+  }
+  if (!FullBlocks.empty())
+  {
+    bool full = true;
+    for (std::int64_t z = lo[2] >> 2; full && z <= hi[2] >> 2; ++z)
+      for (std::int64_t y = lo[1] >> 2; full && y <= hi[1] >> 2; ++y)
+        for (std::int64_t x = lo[0] >> 2; full && x <= hi[0] >> 2; ++x)
+          full = FullBlocks[std::size_t((z * BlockDims[1] + y) * BlockDims[0] + x)] != 0;
+    if (full)
+      return true;
+  }
+  for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+    for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+      for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+        if (Bricks[brickOf(x, y, z)].load(std::memory_order_relaxed) != ~std::uint64_t(0))
+          return false;
+  return true;
+}
+
+std::size_t TubeInteriorGrid::fullBrickCount() const
+{
+  return std::size_t(std::count_if(Bricks.begin(), Bricks.end(),
+    [](const std::atomic<std::uint64_t>& w) { return w.load(std::memory_order_relaxed) == ~std::uint64_t(0); }));
+}
+
+namespace
+{
+Box3 ballBox(const vec4& ball)
+{
+  return Box3{ vec3(ball) - vec3(ball.w), vec3(ball) + vec3(ball.w) };
+}
+
+/// Kept nodes first to end, of one chunk's block: a run of the outer set starts at `first`.
+struct KeptRun
+{
+  std::uint32_t first, end, chunk;
+};
+} // namespace
+
+std::shared_ptr<TubeSet> outerLinks(const TubeSet& set, const OuterLinkOptions& options, OuterLinkReport* report)
+{
+  const auto started = std::chrono::steady_clock::now();
+  OuterLinkReport local;
+  OuterLinkReport& out = report ? *report : local;
+  out = OuterLinkReport{};
+  out.links = set.Links;
+  if (!set.Chunked || set.Links == 0 || set.AllBounds.empty())
+    return nullptr;
+  const std::size_t chunks = set.Chunks.size() - 1;
+  const Box3 bounds{ vec3(dvec3(set.AllBounds.lower) - set.Origin), vec3(dvec3(set.AllBounds.upper) - set.Origin) };
+
+  // Calls visit(node, its ball, its predecessor's ball or null) for each node of a chunk.
+  auto forEachLink = [&set](std::size_t chunk, auto&& visit)
+  {
+    const TubeSet::ChunkEntry& entry = set.Chunks[chunk];
+    const std::uint32_t begin = entry.firstNode, end = set.Chunks[chunk + 1].firstNode;
+    const std::uint32_t r = entry.firstRadius;
+    const bool constant = set.Chunks[chunk + 1].firstRadius - r == 1;
+    const TubeSet::ChunkPoints points = set.pointsOf(unsigned(chunk));
+    vec4 previous(0.0f);
+    bool linked = set.chunkStart(unsigned(chunk), previous);
+    for (std::uint32_t node = begin; node < end; ++node)
+    {
+      const vec4 ball(points[node - begin], set.Radii[constant ? r : r + node - begin]);
+      visit(node, ball, linked ? &previous : nullptr);
+      previous = ball;
+      linked = true;
+    }
+  };
+
+  // The fill, and the links' smaller radii, from a sample of chunks spread over the set.
+  const std::size_t stride = std::max<std::size_t>(1, chunks / 4096);
+  double volume = 0.0;
+  std::vector<float> radii;
+  for (std::size_t c = 0; c < chunks; c += stride)
+    forEachLink(c, [&](std::uint32_t, const vec4& ball, const vec4* previous)
+      {
+        if (!previous)
+          return;
+        const double r = 0.5 * (double(ball.w) + double(previous->w));
+        volume += kPi * r * r * glm::length(dvec3(vec3(ball)) - dvec3(vec3(*previous)));
+        radii.push_back(std::min(ball.w, previous->w));
+      });
+  const dvec3 extent = dvec3(bounds.upper) - dvec3(bounds.lower);
+  out.fill = volume * double(stride) / std::max(extent.x * extent.y * extent.z, 1e-300);
+  if (!(out.fill >= options.minimumFill) || radii.empty())
+    return nullptr;
+
+  // Voxels small enough that the median link marks the voxels along its axis.
+  std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+  double voxel = 0.999 * double(radii[radii.size() / 2]) / std::sqrt(3.0);
+  if (!(voxel > 0.0))
+    return nullptr;
+  const double cells = (extent.x / voxel + 2.0) * (extent.y / voxel + 2.0) * (extent.z / voxel + 2.0);
+  if (cells / 64.0 > double(options.maximumBricks))
+    voxel *= std::cbrt(cells / 64.0 / double(options.maximumBricks)) * 1.01;
+  TubeInteriorGrid grid(bounds, voxel);
+  out.voxel = voxel;
+  out.gridBytes = grid.memoryBytes();
+
+  // Chunks in the order of a coarse grid of buckets (32 a side) holding their first points, so
+  // that the grid words a thread reads lie together: in file order, streamlines come from all
+  // over the volume and every link's words were a cache miss.
+  // (A grid that fits in the caches gains nothing: file order then.)
+  std::vector<std::uint32_t> order(chunks);
+  std::iota(order.begin(), order.end(), 0u);
+  if (grid.memoryBytes() > (std::size_t(8) << 20))
+  {
+    const int side = 32;
+    const dvec3 scale = double(side) / glm::max(extent, dvec3(1e-30));
+    std::vector<std::uint16_t> bucket(chunks);
+    tbb::parallel_for(std::size_t(0), chunks, std::size_t(1) << 16, [&](std::size_t c0)
+      {
+        for (std::size_t c = c0; c < std::min(chunks, c0 + (std::size_t(1) << 16)); ++c)
+        {
+          const dvec3 q = (dvec3(set.pointsOf(unsigned(c))[0]) - dvec3(bounds.lower)) * scale;
+          const glm::ivec3 i = glm::clamp(glm::ivec3(q), glm::ivec3(0), glm::ivec3(side - 1));
+          bucket[c] = std::uint16_t((i.z * side + i.y) * side + i.x);
+        }
+      });
+    std::vector<std::size_t> start(side * side * side + 1, 0);
+    for (std::uint16_t b : bucket)
+      ++start[b + 1];
+    for (std::size_t b = 1; b < start.size(); ++b)
+      start[b] += start[b - 1];
+    for (std::size_t c = 0; c < chunks; ++c)
+      order[start[bucket[c]]++] = std::uint32_t(c);
+  }
+
+  const std::size_t block = 4096;
+  const std::size_t blocks = (chunks + block - 1) / block;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      std::vector<vec4> starts, ends;
+      std::vector<TubeInteriorGrid::Mark> marks;
+      for (std::size_t o = range.begin() * block; o < std::min(chunks, range.end() * block); ++o)
+      {
+        const std::size_t c = order[o];
+        starts.clear();
+        ends.clear();
+        forEachLink(c, [&](std::uint32_t, const vec4& ball, const vec4* previous)
+          {
+            starts.push_back(previous ? *previous : ball);
+            ends.push_back(ball);
+          });
+        grid.coverLinks(starts.data(), ends.data(), starts.size(), marks);
+      }
+    });
+
+  grid.summarize();
+  const auto marked = std::chrono::steady_clock::now();
+  out.markSeconds = std::chrono::duration<double>(marked - started).count();
+
+  // A node (its end sphere and its link from its predecessor) is kept unless every brick its
+  // box meets is covered; the hull of the two spheres lies in their boxes.
+  std::vector<std::vector<KeptRun>> kept(blocks);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      for (std::size_t b = range.begin(); b < range.end(); ++b)
+      {
+        std::vector<KeptRun>& runs = kept[b];
+        for (std::size_t o = b * block; o < std::min(chunks, (b + 1) * block); ++o)
+        {
+          const std::size_t c = order[o];
+          forEachLink(c, [&](std::uint32_t node, const vec4& ball, const vec4* previous)
+            {
+              Box3 box = ballBox(ball);
+              if (previous)
+                box.extend(ballBox(*previous));
+              if (grid.covers(box))
+                return;
+              if (!runs.empty() && runs.back().end == node && node != set.Chunks[c].firstNode)
+                ++runs.back().end;
+              else
+                runs.push_back(KeptRun{ node, node + 1, std::uint32_t(c) });
+            });
+        }
+      }
+    });
+  order = {};
+  std::size_t keptNodes = 0, runCount = 0;
+  for (const auto& runs : kept)
+  {
+    runCount += runs.size();
+    for (const KeptRun& run : runs)
+      keptNodes += run.end - run.first;
+  }
+  out.hiddenLinks = set.NodeCount - keptNodes; // nodes stand for links (and runs' first spheres)
+  out.keepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - marked).count();
+  if (double(keptNodes) > options.maximumKept * double(set.NodeCount))
+  {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return nullptr;
+  }
+
+  // Each kept run goes on from its first node's predecessor (drawn as a start sphere: hidden).
+  const bool colored = !set.Colors.empty();
+  TubeRunBuilder builder(set.Origin, options.chunkSize, colored);
+  builder.reserve(keptNodes + runCount, runCount);
+  std::vector<std::uint32_t> selected;
+  selected.reserve(keptNodes + runCount);
+  std::vector<vec3> points;
+  std::vector<float> radii2;
+  std::vector<std::uint32_t> colors;
+  for (const auto& runs : kept)
+    for (const KeptRun& run : runs)
+    {
+      points.clear();
+      radii2.clear();
+      colors.clear();
+      const TubeSet::ChunkEntry& entry = set.Chunks[run.chunk];
+      const std::uint32_t r = entry.firstRadius;
+      const bool constant = set.Chunks[run.chunk + 1].firstRadius - r == 1;
+      const TubeSet::ChunkPoints chunkPoints = set.pointsOf(run.chunk);
+      auto add = [&](std::uint32_t node, const vec4& ball)
+      {
+        points.push_back(vec3(ball));
+        radii2.push_back(ball.w);
+        if (colored)
+          colors.push_back(set.Colors[node]);
+        selected.push_back(node);
+      };
+      auto ballOf = [&](std::uint32_t node)
+      {
+        return vec4(chunkPoints[node - entry.firstNode], set.Radii[constant ? r : r + node - entry.firstNode]);
+      };
+      if (run.first == entry.firstNode)
+      {
+        vec4 start;
+        if (set.chunkStart(run.chunk, start))
+          add(std::uint32_t(entry.predecessor), start);
+      }
+      else
+        add(run.first - 1, ballOf(run.first - 1));
+      for (std::uint32_t node = run.first; node < run.end; ++node)
+        add(node, ballOf(node));
+      builder.addRun(points.data(), radii2.data(), colored ? colors.data() : nullptr, points.size());
+    }
+  std::shared_ptr<TubeSet> outer = builder.finish();
+  outer->SelectedNode = std::move(selected);
+  outer->SelectionTotal = set.selectionCount();
+  outer->material = set.material;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return outer;
+}
+} // namespace sightline

@@ -32,7 +32,10 @@ class vtkSightlineMapper::vtkInternals
 public:
   // Geometry and BVH, rebuilt when the input, the mapper or its lookup table change.
   std::shared_ptr<sightline::Geometry> Geometry;
-  std::unique_ptr<sightline::EmbreeScene> Scene;
+  std::unique_ptr<sightline::EmbreeScene> Scene; ///< built on first use when there is Outer
+  // BuildOuterGeometry's part of Geometry (null: none) and its BVH.
+  std::shared_ptr<sightline::Geometry> Outer;
+  std::unique_ptr<sightline::EmbreeScene> OuterScene;
   vtkTimeStamp BuildTime;
   double Bounds[6] = { 1, -1, 1, -1, 1, -1 };
 
@@ -142,6 +145,8 @@ bool vtkSightlineMapper::UpdateScene()
   if (changed > in.BuildTime.GetMTime())
   {
     in.Scene.reset();
+    in.OuterScene.reset();
+    in.Outer.reset();
     in.Geometry.reset();
     vtkMath::UninitializeBounds(in.Bounds);
     try
@@ -149,15 +154,27 @@ bool vtkSightlineMapper::UpdateScene()
       vtkNew<vtkTimerLog> timer;
       timer->StartTimer();
       in.Geometry = drawn || pulls ? this->BuildGeometry() : nullptr;
+      if (in.Geometry && in.Geometry->size() > 0)
+      {
+        in.Outer = this->BuildOuterGeometry(*in.Geometry);
+      }
       timer->StopTimer();
       this->LastGeometrySeconds = timer->GetElapsedTime();
       if (in.Geometry && in.Geometry->size() > 0)
       {
-        auto scene = std::make_unique<sightline::EmbreeScene>();
-        scene->add(in.Geometry);
-        scene->commit();
-        this->LastBuildSeconds = scene->buildSeconds();
-        in.Scene = std::move(scene);
+        if (in.Outer && in.Outer->size() > 0)
+        {
+          in.OuterScene = std::make_unique<sightline::EmbreeScene>();
+          in.OuterScene->add(in.Outer);
+          in.OuterScene->commit();
+          this->LastBuildSeconds = in.OuterScene->buildSeconds();
+        }
+        else
+        {
+          in.Outer.reset();
+          this->LastBuildSeconds = 0.0;
+          this->WholeScene();
+        }
         const sightline::Box3 box = in.Geometry->bounds();
         for (int axis = 0; axis < 3; ++axis)
         {
@@ -171,10 +188,34 @@ bool vtkSightlineMapper::UpdateScene()
       vtkErrorMacro(<< "Could not build the ray-tracing scene: " << e.what());
       in.Geometry.reset();
       in.Scene.reset();
+      in.Outer.reset();
+      in.OuterScene.reset();
     }
     in.BuildTime.Modified();
   }
-  return in.Scene != nullptr;
+  return in.Scene != nullptr || in.OuterScene != nullptr;
+}
+
+//------------------------------------------------------------------------------
+const sightline::EmbreeScene* vtkSightlineMapper::WholeScene()
+{
+  vtkInternals& in = *this->Internals;
+  if (!in.Scene && in.Geometry && in.Geometry->size() > 0)
+  {
+    try
+    {
+      auto scene = std::make_unique<sightline::EmbreeScene>();
+      scene->add(in.Geometry);
+      scene->commit();
+      this->LastBuildSeconds += scene->buildSeconds();
+      in.Scene = std::move(scene);
+    }
+    catch (const std::exception& e)
+    {
+      vtkErrorMacro(<< "Could not build the ray-tracing scene: " << e.what());
+    }
+  }
+  return in.Scene.get();
 }
 
 //------------------------------------------------------------------------------
@@ -215,15 +256,17 @@ vtkIdType vtkSightlineMapper::GetNumberOfPrimitives()
 //------------------------------------------------------------------------------
 vtkTypeInt64 vtkSightlineMapper::GetGeometryMemoryBytes()
 {
-  const auto& geometry = this->Internals->Geometry;
-  return geometry ? static_cast<vtkTypeInt64>(geometry->memoryBytes()) : 0;
+  const vtkInternals& in = *this->Internals;
+  return static_cast<vtkTypeInt64>(
+    (in.Geometry ? in.Geometry->memoryBytes() : 0) + (in.Outer ? in.Outer->memoryBytes() : 0));
 }
 
 //------------------------------------------------------------------------------
 vtkTypeInt64 vtkSightlineMapper::GetBVHMemoryBytes()
 {
-  const auto& scene = this->Internals->Scene;
-  return scene ? static_cast<vtkTypeInt64>(scene->bvhBytes()) : 0;
+  const vtkInternals& in = *this->Internals;
+  return static_cast<vtkTypeInt64>(
+    (in.Scene ? in.Scene->bvhBytes() : 0) + (in.OuterScene ? in.OuterScene->bvhBytes() : 0));
 }
 
 //------------------------------------------------------------------------------
@@ -363,7 +406,40 @@ bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightColle
   options.primitiveIds = selection;
   options.regionLower = regionLower;
   options.regionUpper = regionUpper;
-  const sightline::EmbreeScene* opaqueScene = in.Scene.get();
+  const sightline::Camera view(worldToClip * options.objectToWorld, width, height);
+  // The outer part draws what the whole draws for rays that start outside its bounds: opaque
+  // views whose near plane (where rays start) lies outside them, nothing clipped away.
+  sightline::Box3 nearPlane;
+  for (double px : { 0.0, double(width) })
+    for (double py : { 0.0, double(height) })
+      nearPlane.extend(sightline::vec3(view.unproject(px, py, 0.0)));
+  const sightline::Box3 whole = in.Geometry->bounds();
+  const bool outside = nearPlane.upper.x < whole.lower.x || nearPlane.lower.x > whole.upper.x ||
+    nearPlane.upper.y < whole.lower.y || nearPlane.lower.y > whole.upper.y ||
+    nearPlane.upper.z < whole.lower.z || nearPlane.lower.z > whole.upper.z;
+  // The region is in world coordinates: its box must hold the geometry's, moved there.
+  sightline::dvec3 worldLower(std::numeric_limits<double>::infinity()), worldUpper(-worldLower);
+  for (int corner = 0; corner < 8; ++corner)
+  {
+    const sightline::dvec3 p(corner & 1 ? whole.upper.x : whole.lower.x,
+      corner & 2 ? whole.upper.y : whole.lower.y, corner & 4 ? whole.upper.z : whole.lower.z);
+    const sightline::dvec3 world(options.objectToWorld * sightline::dvec4(p, 1.0));
+    worldLower = glm::min(worldLower, world);
+    worldUpper = glm::max(worldUpper, world);
+  }
+  const bool unclipped = glm::all(glm::lessThanEqual(regionLower, worldLower)) &&
+    glm::all(glm::greaterThanEqual(regionUpper, worldUpper));
+  const bool outer = in.OuterScene && !translucent && outside && unclipped;
+  if (outer)
+  {
+    in.Outer->material = in.Geometry->material;
+  }
+  const sightline::EmbreeScene* opaqueScene = outer ? in.OuterScene.get() : this->WholeScene();
+  if (!opaqueScene)
+  {
+    return false;
+  }
+  this->LastFrameOuter = outer;
   if (translucent)
   {
     // The union of solids is drawn by the translucent path only.
@@ -372,13 +448,12 @@ bool vtkSightlineMapper::Trace(vtkProp3D* prop, vtkCamera* camera, vtkLightColle
       in.EmptyScene = std::make_unique<sightline::EmbreeScene>();
       in.EmptyScene->commit();
     }
-    options.translucent.scene = in.Scene.get();
+    options.translucent.scene = opaqueScene;
     opaqueScene = in.EmptyScene.get();
   }
   options.progress = SightlineKernelConversions::ProgressCallback(this);
   try
   {
-    const sightline::Camera view(worldToClip * options.objectToWorld, width, height);
     const sightline::RenderStatistics stats = sightline::Renderer().render(
       *opaqueScene, view, SightlineKernelConversions::MakeLighting(lights, camera), framebuffer, options);
     this->LastFrameSeconds = stats.seconds;

@@ -82,6 +82,7 @@
 #include <vector> // for std::vector
 namespace sightline
 {
+class EmbreeScene;
 class Framebuffer;
 class Geometry;
 struct RenderOptions;
@@ -229,12 +230,19 @@ public:
   vtkGetMacro(LastFrameSeconds, double);
   vtkGetMacro(LastGeometrySeconds, double);
   vtkGetMacro(LastBuildSeconds, double);
+  /**
+   * Whether the last frame or pick traced only the outer part of the geometry
+   * (BuildOuterGeometry(): dense tubes seen from outside).
+   */
+  vtkGetMacro(LastFrameOuter, bool);
 
   ///@{
   /**
    * Bytes of the last geometry built from the input (the kernel's Geometry::memoryBytes: for
    * tubes 20 bytes per link with the default layout) and of its BVH (Embree's allocations
-   * during the build, measured through its memory monitor); 0 when nothing is drawn. Their
+   * during the build, measured through its memory monitor); 0 when nothing is drawn. Both
+   * count the outer part too where there is one (BuildOuterGeometry()), and the BVH only the
+   * scenes built so far (the whole geometry's is built on first use then). Their
    * sum is what this mapper holds for ray tracing besides its input (per MPI rank: its piece).
    */
   vtkTypeInt64 GetGeometryMemoryBytes();
@@ -270,6 +278,19 @@ protected:
    * is valid). Called only when the input, the mapper or the lookup table changed.
    */
   virtual std::shared_ptr<sightline::Geometry> BuildGeometry() = 0;
+
+  /**
+   * A smaller geometry whose nearest hit equals `whole`'s for every ray starting outside
+   * whole.bounds() (sightline::outerLinks for dense tubes), or null (the default). When there
+   * is one, opaque frames and picks from a view whose near plane lies outside those bounds,
+   * with the Region all of space, trace it; other frames trace the whole geometry, whose BVH
+   * is then built on first use. Called after each BuildGeometry().
+   */
+  virtual std::shared_ptr<sightline::Geometry> BuildOuterGeometry(
+    const sightline::Geometry& vtkNotUsed(whole))
+  {
+    return nullptr;
+  }
 
   /**
    * Whether the geometry is a union of solids that can be drawn translucent
@@ -351,6 +372,7 @@ protected:
   double LastFrameSeconds = 0.0;
   double LastGeometrySeconds = 0.0;
   double LastBuildSeconds = 0.0;
+  bool LastFrameOuter = false;
 
 private:
   vtkSightlineMapper(const vtkSightlineMapper&) = delete;
@@ -361,6 +383,8 @@ private:
   Pass GetPass(vtkProp3D* prop) override;
   // Brings the geometry and BVH up to date with the input; false when there is nothing to draw.
   bool UpdateScene() override;
+  /// The BVH of the whole geometry, built here on first use when there is an outer part.
+  const sightline::EmbreeScene* WholeScene();
   vtkMTimeType GetSceneTime() override;
   const SelectionIds* GetSelectionIds() override;
   bool RayTraceSelection(vtkProp3D* prop, vtkCamera* camera, vtkLightCollection* lights,

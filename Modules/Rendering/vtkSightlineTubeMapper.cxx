@@ -20,6 +20,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "sightline/tubes/TubeInterior.h"
 #include "sightline/tubes/TubeSet.h"
 
 #include <algorithm>
@@ -296,6 +297,28 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
     vtkErrorMacro(<< "Could not build the tubes: " << e.what());
     return nullptr;
   }
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildOuterGeometry(
+  const sightline::Geometry& whole)
+{
+  this->HiddenLinks = 0;
+  const auto* tubes = dynamic_cast<const sightline::TubeSet*>(&whole);
+  if (!this->HiddenLinkCulling || !tubes)
+  {
+    return nullptr;
+  }
+  sightline::OuterLinkReport report;
+  std::shared_ptr<sightline::TubeSet> outer = sightline::outerLinks(*tubes, {}, &report);
+  vtkDebugMacro(<< "Hidden-link culling: fill " << report.fill << ", voxel " << report.voxel
+                << ", " << report.hiddenLinks << " of " << report.links << " hidden, "
+                << report.seconds << " s");
+  if (outer)
+  {
+    this->HiddenLinks = static_cast<vtkIdType>(report.hiddenLinks);
+  }
+  return outer;
 }
 
 //------------------------------------------------------------------------------
@@ -637,4 +660,6 @@ void vtkSightlineTubeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AutomaticLongChunkLinks: " << this->AutomaticLongChunkLinks << "\n";
   os << indent << "NumberOfLinks: " << this->NumberOfLinks << "\n";
   os << indent << "StreamedPieces: " << this->StreamedPieces << "\n";
+  os << indent << "HiddenLinkCulling: " << this->HiddenLinkCulling << "\n";
+  os << indent << "HiddenLinks: " << this->HiddenLinks << "\n";
 }

@@ -186,6 +186,26 @@ public:
   vtkSetClampMacro(StreamedPieces, int, 1, VTK_INT_MAX);
   vtkGetMacro(StreamedPieces, int);
 
+  ///@{
+  /**
+   * Hidden-link culling (chunked layouts): where tubes fill their bounds many times over (a
+   * whole-brain tractogram of 10^9 links), links that lie inside other links' solids are left
+   * out of opaque frames and picks seen from outside the tubes' bounds. Such frames are
+   * exactly the same (a ray from outside first meets the union's surface, which no hidden link
+   * reaches); translucent frames, views from inside the bounds and a clipping Region trace every
+   * link (their BVH is then built on first use). A pass over the links decides it, and runs only
+   * where tubes fill their bounding box 50 times over (sightline::outerLinks). Default on.
+   */
+  vtkSetMacro(HiddenLinkCulling, vtkTypeBool);
+  vtkGetMacro(HiddenLinkCulling, vtkTypeBool);
+  vtkBooleanMacro(HiddenLinkCulling, vtkTypeBool);
+  ///@}
+
+  /**
+   * Links the last build found hidden (0 where it culled none).
+   */
+  vtkGetMacro(HiddenLinks, vtkIdType);
+
   /**
    * The layout the last build used (LINKS_AUTOMATIC resolved), -1 before any.
    */
@@ -214,6 +234,7 @@ protected:
    * BuildGeometry() with StreamedPieces above 1.
    */
   std::shared_ptr<sightline::Geometry> BuildStreamedGeometry();
+  std::shared_ptr<sightline::Geometry> BuildOuterGeometry(const sightline::Geometry& whole) override;
   /**
    * The radius of each point of `input` (false after an error naming the problem).
    */
@@ -244,6 +265,8 @@ protected:
   unsigned ChunkLinksFor(double points) const;
   vtkIdType NumberOfLinks = 0;
   int StreamedPieces = 1;
+  vtkTypeBool HiddenLinkCulling = 1;
+  vtkIdType HiddenLinks = 0;
 
 #ifndef __VTK_WRAP__
   /**

@@ -159,6 +159,16 @@ void vtkSightlineTubeRepresentation::SetLinkLayout(int layout)
   this->GetTubeMapper()->SetLinkLayout(layout);
 }
 
+void vtkSightlineTubeRepresentation::SetChunkLinks(int links)
+{
+  this->GetTubeMapper()->SetChunkLinks(links);
+}
+
+void vtkSightlineTubeRepresentation::SetHiddenLinkCulling(int on)
+{
+  this->GetTubeMapper()->SetHiddenLinkCulling(on);
+}
+
 void vtkSightlineTubeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -38,6 +38,9 @@ public:
   /// The point array of predecessor ids (SWC-style trees); empty: the polylines.
   void SetPredecessorArray(int idx, int port, int connection, int association, const char* name);
   void SetLinkLayout(int layout);
+  /// vtkSightlineTubeMapper::ChunkLinks and HiddenLinkCulling.
+  void SetChunkLinks(int links);
+  void SetHiddenLinkCulling(int on);
 
 protected:
   vtkSightlineTubeRepresentation();

@@ -236,6 +236,7 @@ def child_render(trx, layout, opacity, image, pieces=1):
     result["second"] = memory()
     result["geometry"], result["bvh"] = mapper.GetGeometryMemoryBytes(), mapper.GetBVHMemoryBytes()
     result["layout"] = mapper.GetBuiltLinkLayout()
+    result["hidden"], result["outer"] = mapper.GetHiddenLinks(), mapper.GetLastFrameOuter()
     if image:
         writer = vtk.vtkPNGWriter()
         writer.SetInputConnection(renderer.GetOutputPort())
@@ -327,6 +328,7 @@ def main():
                 row = {"links": n, "streamlines": r["streamlines"], "points": r["points"],
                        "file_mb": os.path.getsize(name + ".trx") / 1e6, "layout": layout_name,
                        "built_layout": r["layout"], "opacity": opacity, "pieces": layout_pieces,
+                       "hidden_links": r["hidden"], "outer_frames": int(r["outer"]),
                        "read_s": r.get("read_s", float("nan")),
                        "rss_after_read_mb": r.get("read", [float("nan")])[0],
                        "rss_base_mb": r["base"][0],

@@ -174,11 +174,6 @@ std::size_t TubeInteriorGrid::fullBrickCount() const
 
 namespace
 {
-Box3 ballBox(const vec4& ball)
-{
-  return Box3{ vec3(ball) - vec3(ball.w), vec3(ball) + vec3(ball.w) };
-}
-
 /// Kept nodes first to end, of one chunk's block: a run of the outer set starts at `first`.
 struct KeptRun
 {
@@ -315,9 +310,9 @@ std::shared_ptr<TubeSet> outerLinks(const TubeSet& set, const OuterLinkOptions& 
           const std::size_t c = order[o];
           forEachLink(c, [&](std::uint32_t node, const vec4& ball, const vec4* previous)
             {
-              Box3 box = ballBox(ball);
+              Box3 box = sphereBox(ball);
               if (previous)
-                box.extend(ballBox(*previous));
+                box.extend(sphereBox(*previous));
               if (grid.covers(box))
                 return;
               if (!runs.empty() && runs.back().end == node && node != set.Chunks[c].firstNode)

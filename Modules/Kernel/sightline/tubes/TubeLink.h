@@ -41,4 +41,10 @@ bool sphereInterval(const dvec3& center, double radius, const dvec3& origin,
 
 /// Outward (unnormalised) normal of the stump's side at a point on it.
 dvec3 coneStumpNormal(const ConeStump& stump, const dvec3& point);
+
+/// The box of a sphere (xyz centre, w radius); a link lies in the boxes of its two spheres.
+inline Box3 sphereBox(const vec4& sphere)
+{
+  return Box3{ vec3(sphere) - vec3(sphere.w), vec3(sphere) + vec3(sphere.w) };
+}
 } // namespace sightline

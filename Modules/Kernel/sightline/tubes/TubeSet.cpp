@@ -44,11 +44,6 @@ void checkForCycles(const std::vector<std::int64_t>& predecessors)
   }
 }
 
-Box3 sphereBox(const vec4& node)
-{
-  return Box3{ vec3(node) - vec3(node.w), vec3(node) + vec3(node.w) };
-}
-
 /// A box in the set's frame widened against rounding, moved to the world frame.
 Box3 padAndPlace(Box3 box, const dvec3& origin)
 {

@@ -7,6 +7,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
+#include "vtkFloatArray.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkIdList.h"
 #include "vtkInformation.h"
@@ -20,6 +21,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "sightline/tubes/TubeBatchBuilder.h"
 #include "sightline/tubes/TubeInterior.h"
 #include "sightline/tubes/TubeSet.h"
 
@@ -361,13 +363,15 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
   vtkAlgorithm* producer = connection->GetProducer();
   const int port = connection->GetIndex();
   const int pieces = this->StreamedPieces;
-  std::unique_ptr<sightline::TubeRunBuilder> builder;
+  // Each piece is read and converted here while the one before is built on a worker thread
+  // (sightline::TubeBatchBuilder, which calls nothing of VTK's).
+  std::unique_ptr<sightline::TubeBatchBuilder> builder;
+  sightline::TubeBatchBuilder::Batch batch;
   sightline::dvec3 origin(0.0);
   vtkIdType pointOffset = 0, cellOffset = 0, skipped = 0, lines = 0;
   bool colored = false;
   vtkNew<vtkIdList> ids;
   std::vector<float> radius;
-  std::vector<sightline::vec3> local;
   for (int piece = 0; piece < pieces; ++piece)
   {
     // Ask for this piece on the producer's output port (the others as they are).
@@ -411,24 +415,15 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
           {
             input->GetPoint(i, &world[i].x);
           }
+          std::vector<sightline::vec3> local;
           origin = SightlineKernelConversions::ToLocalFrame(world, local);
           colored = !pieceColors.empty();
           // Pieces of one reader hold about as many points each.
           const double expected = 1.05 * double(count) * pieces;
           this->BuiltChunkLinks = static_cast<int>(this->ChunkLinksFor(expected));
-          builder = std::make_unique<sightline::TubeRunBuilder>(
+          builder = std::make_unique<sightline::TubeBatchBuilder>(
             origin, static_cast<unsigned>(this->BuiltChunkLinks), colored);
           builder->reserve(static_cast<std::size_t>(expected));
-        }
-        else
-        {
-          local.resize(static_cast<std::size_t>(count));
-          sightline::dvec3 point;
-          for (vtkIdType i = 0; i < count; ++i)
-          {
-            input->GetPoint(i, &point.x);
-            local[static_cast<std::size_t>(i)] = sightline::vec3(point - origin);
-          }
         }
         if (colored != !pieceColors.empty())
         {
@@ -437,9 +432,13 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
                         << "; give every piece the same arrays. No tubes rendered.");
           return nullptr;
         }
-        std::vector<sightline::vec3> runPoints;
-        std::vector<float> runRadii;
-        std::vector<std::uint32_t> runColors;
+        // Float points (every tractogram reader's) read in place; others through GetPoint.
+        const float* floats = nullptr;
+        if (auto* array = vtkFloatArray::FastDownCast(input->GetPoints()->GetData()))
+        {
+          floats = array->GetPointer(0);
+        }
+        const std::size_t given = builder->pointsGiven();
         lines += ForEachPolyline(input, ids,
           [&](vtkIdType c, vtkIdList* cell)
           {
@@ -455,28 +454,35 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildStreamedGeomet
               }
               return;
             }
-            runPoints.clear();
-            runRadii.clear();
-            runColors.clear();
+            this->Streamed.FirstControlPoint.push_back(
+              static_cast<std::uint32_t>(given + batch.points.size()));
             bool consecutive = true;
+            sightline::dvec3 point;
             for (vtkIdType k = 0; k < n; ++k)
             {
               const vtkIdType id = first[k];
               consecutive = consecutive && (k == 0 || id == first[k - 1] + 1);
-              runPoints.push_back(local[static_cast<std::size_t>(id)]);
-              runRadii.push_back(radius[static_cast<std::size_t>(id)]);
+              if (floats)
+              {
+                point = sightline::dvec3(floats[3 * id], floats[3 * id + 1], floats[3 * id + 2]);
+              }
+              else
+              {
+                input->GetPoint(id, &point.x);
+              }
+              batch.points.push_back(sightline::vec3(point - origin));
+              batch.radii.push_back(radius[static_cast<std::size_t>(id)]);
               if (colored)
               {
-                runColors.push_back(
+                batch.colors.push_back(
                   pointColors.empty() ? cellColors[static_cast<std::size_t>(c)] : pointColors[id]);
               }
             }
-            this->Streamed.FirstControlPoint.push_back(static_cast<std::uint32_t>(builder->pointsGiven()));
+            batch.endRun();
             this->Streamed.Cell.push_back(cellOffset + c);
             this->Streamed.FirstPoint.push_back(n > 0 && consecutive ? pointOffset + first[0] : -1);
-            builder->addRun(runPoints.data(), runRadii.data(), colored ? runColors.data() : nullptr,
-              runPoints.size());
           });
+        batch = builder->add(std::move(batch));
       }
       pointOffset += count;
       cellOffset += cells;

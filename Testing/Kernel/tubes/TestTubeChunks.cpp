@@ -7,6 +7,7 @@
 #include "sightline/core/EmbreeScene.h"
 #include "sightline/core/Renderer.h"
 #include "sightline/math/Half.h"
+#include "sightline/tubes/TubeBatchBuilder.h"
 #include "sightline/tubes/TubeSet.h"
 
 #include <gtest/gtest.h>
@@ -419,6 +420,34 @@ std::shared_ptr<TubeSet> buildRuns(const Tubes& runs, const dvec3& origin, unsig
   }
   return builder.finish();
 }
+/// The same chunks, nodes, links, colours and bounds in `built` as in `reference`.
+void expectSameSet(const TubeSet& built, const TubeSet& reference)
+{
+  ASSERT_EQ(built.size(), reference.size()) << "chunk size " << reference.layout().chunkSize;
+  EXPECT_EQ(built.pointCount(), reference.pointCount());
+  EXPECT_EQ(built.linkCount(), reference.linkCount());
+  EXPECT_EQ(built.report().reasons, reference.report().reasons);
+  // The same tables; grown or reserved per-node vectors keep at most an eighth of slack.
+  EXPECT_GE(built.memoryBytes(), reference.memoryBytes() * 7 / 8);
+  EXPECT_LE(built.memoryBytes(), reference.memoryBytes() * 9 / 8);
+  EXPECT_EQ(built.layout().name(), reference.layout().name());
+  for (unsigned c = 0; c < built.size(); ++c)
+  {
+    EXPECT_EQ(built.nodeOfPrimitive(c), reference.nodeOfPrimitive(c));
+    EXPECT_EQ(built.bounds(c).lower, reference.bounds(c).lower);
+    EXPECT_EQ(built.bounds(c).upper, reference.bounds(c).upper);
+  }
+  for (std::uint32_t node = 0; node < built.pointCount(); ++node)
+  {
+    EXPECT_EQ(built.predecessorOf(node), reference.predecessorOf(node)) << "node " << node;
+    EXPECT_EQ(built.sourceIndexOf(node), reference.sourceIndexOf(node)) << "node " << node;
+    if (reference.hasPrimitiveColors())
+      EXPECT_EQ(built.partColor(2 * node), reference.partColor(2 * node));
+  }
+  EXPECT_EQ(built.hasPrimitiveColors(), reference.hasPrimitiveColors());
+  EXPECT_EQ(built.bounds().lower, reference.bounds().lower);
+  EXPECT_EQ(built.bounds().upper, reference.bounds().upper);
+}
 } // namespace
 
 TEST(TubeChunks, RunBuilderBuildsWhatTheConstructorBuilds)
@@ -436,29 +465,8 @@ TEST(TubeChunks, RunBuilderBuildsWhatTheConstructorBuilds)
   {
     const TubeSet reference(origin, runs.points, runs.radii, runs.predecessors, colors, chunked(size));
     const auto built = buildRuns(runs, origin, size, colors, size == 3u);
-    ASSERT_EQ(built->size(), reference.size()) << "chunk size " << size;
-    EXPECT_EQ(built->pointCount(), reference.pointCount());
-    EXPECT_EQ(built->linkCount(), reference.linkCount());
     EXPECT_EQ(built->report().rejected, 3u);
-    EXPECT_EQ(built->report().reasons, reference.report().reasons);
-    // The same tables; grown or reserved per-node vectors keep at most an eighth of slack.
-    EXPECT_GE(built->memoryBytes(), reference.memoryBytes() * 7 / 8);
-    EXPECT_LE(built->memoryBytes(), reference.memoryBytes() * 9 / 8);
-    EXPECT_EQ(built->layout().name(), reference.layout().name());
-    for (unsigned c = 0; c < built->size(); ++c)
-    {
-      EXPECT_EQ(built->nodeOfPrimitive(c), reference.nodeOfPrimitive(c));
-      EXPECT_EQ(built->bounds(c).lower, reference.bounds(c).lower);
-      EXPECT_EQ(built->bounds(c).upper, reference.bounds(c).upper);
-    }
-    for (std::uint32_t node = 0; node < built->pointCount(); ++node)
-    {
-      EXPECT_EQ(built->predecessorOf(node), reference.predecessorOf(node)) << "node " << node;
-      EXPECT_EQ(built->sourceIndexOf(node), reference.sourceIndexOf(node)) << "node " << node;
-      EXPECT_EQ(built->partColor(2 * node), reference.partColor(2 * node));
-    }
-    EXPECT_EQ(built->bounds().lower, reference.bounds().lower);
-    EXPECT_EQ(built->bounds().upper, reference.bounds().upper);
+    expectSameSet(*built, reference);
   }
   // And the images: the built set against the combined layout, pixel by pixel.
   const Tubes clean = runsOf(randomTubes(9));
@@ -503,4 +511,93 @@ TEST(TubeChunks, RunBuilderNamesMisuse)
   EXPECT_THROW(plain.addRun(points, radii, nullptr, 2), std::logic_error);
   // An empty builder gives an empty set.
   EXPECT_EQ(TubeRunBuilder().finish()->size(), 0u);
+}
+
+TEST(TubeChunks, BatchBuilderBuildsWhatTheRunBuilderBuilds)
+{
+  // Bad points too; batches of a few runs each, an empty batch and empty runs among them.
+  Tubes runs = runsOf(randomTubes(7));
+  runs.points[23].y = NAN;
+  runs.radii[60] = -2.0f;
+  std::vector<std::uint32_t> colors(runs.points.size());
+  for (std::size_t i = 0; i < colors.size(); ++i)
+    colors[i] = packRGBA8(std::uint8_t(i * 13), std::uint8_t(i * 7), std::uint8_t(i * 3));
+  const dvec3 origin(-30.0, 5.0, 900.0);
+  for (bool colored : { false, true })
+  {
+    const std::vector<std::uint32_t> none;
+    const auto reference = buildRuns(runs, origin, 4u, colored ? colors : none);
+    TubeBatchBuilder builder(origin, 4u, colored);
+    builder.reserve(runs.points.size());
+    TubeBatchBuilder::Batch batch;
+    std::size_t runsInBatch = 0, batches = 0;
+    batch = builder.add(std::move(batch)); // nothing
+    for (std::size_t begin = 0; begin < runs.points.size();)
+    {
+      std::size_t end = begin + 1;
+      while (end < runs.points.size() && runs.predecessors[end] == std::int64_t(end) - 1)
+        ++end;
+      for (std::size_t i = begin; i < end; ++i)
+      {
+        batch.points.push_back(runs.points[i]);
+        batch.radii.push_back(runs.radii[i]);
+        if (colored)
+          batch.colors.push_back(colors[i]);
+      }
+      batch.endRun();
+      if (runsInBatch == 1)
+        batch.endRun(); // an empty run
+      begin = end;
+      if (++runsInBatch == 1 + batches % 5 || begin == runs.points.size())
+      {
+        const std::size_t before = builder.pointsGiven();
+        const std::size_t count = batch.points.size();
+        batch = builder.add(std::move(batch));
+        EXPECT_EQ(builder.pointsGiven(), before + count);
+        EXPECT_TRUE(batch.points.empty() && batch.runEnds.empty());
+        runsInBatch = 0;
+        ++batches;
+      }
+    }
+    EXPECT_GE(batches, 5u);
+    EXPECT_EQ(builder.pointsGiven(), runs.points.size());
+    const auto built = builder.finish();
+    EXPECT_EQ(built->report().rejected, 2u);
+    expectSameSet(*built, *reference);
+  }
+}
+
+TEST(TubeChunks, BatchBuilderNamesMalformedBatches)
+{
+  TubeBatchBuilder builder;
+  TubeBatchBuilder::Batch batch;
+  batch.points = { vec3(0.0f), vec3(1.0f, 0.0f, 0.0f) };
+  batch.radii = { 0.1f };
+  batch.runEnds = { 2 };
+  EXPECT_THROW(builder.add(TubeBatchBuilder::Batch(batch)), std::invalid_argument); // a radius short
+  batch.radii = { 0.1f, 0.1f };
+  batch.colors = { 0u, 0u };
+  EXPECT_THROW(builder.add(TubeBatchBuilder::Batch(batch)), std::invalid_argument); // colours unasked
+  batch.colors.clear();
+  batch.runEnds = { 3 };
+  EXPECT_THROW(builder.add(TubeBatchBuilder::Batch(batch)), std::invalid_argument); // past the points
+  batch.runEnds = { 2, 1 };
+  EXPECT_THROW(builder.add(TubeBatchBuilder::Batch(batch)), std::invalid_argument); // decreasing
+  batch.runEnds = { 1 };
+  EXPECT_THROW(builder.add(TubeBatchBuilder::Batch(batch)), std::invalid_argument); // a point in no run
+  EXPECT_EQ(builder.pointsGiven(), 0u);
+  batch.runEnds = { 2 };
+  builder.add(std::move(batch));
+  const auto set = builder.finish();
+  EXPECT_EQ(set->linkCount(), 1u);
+  // Errors of building (on the worker: here a batch after finish()) come back from the next call.
+  TubeBatchBuilder coloured(dvec3(0.0), 4u, true);
+  EXPECT_EQ(coloured.finish()->size(), 0u);
+  TubeBatchBuilder::Batch late;
+  late.points = { vec3(0.0f), vec3(1.0f, 0.0f, 0.0f) };
+  late.radii = { 0.1f, 0.1f };
+  late.colors = { 0u, 0u };
+  late.endRun();
+  coloured.add(std::move(late));
+  EXPECT_THROW(coloured.add(TubeBatchBuilder::Batch{}), std::logic_error);
 }

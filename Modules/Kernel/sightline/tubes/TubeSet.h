@@ -187,6 +187,8 @@ private:
   /// Position and radius of a node in any layout.
   vec4 nodeAt(std::uint32_t node) const;
   Box3 chunkBounds(unsigned chunk) const;
+  /// The union of every primitive's bounds (AllBounds), in parallel.
+  Box3 primitiveBoundsUnion() const;
   bool intersectChunk(unsigned chunk, const DoubleRay& ray, SurfaceHit& hit) const;
   void chunkIntervals(unsigned chunk, const DoubleRay& ray, std::vector<InsideInterval>& out) const;
 

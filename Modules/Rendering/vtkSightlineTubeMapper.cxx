@@ -315,7 +315,8 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildOuterGeometry(
   std::shared_ptr<sightline::TubeSet> outer = sightline::outerLinks(*tubes, {}, &report);
   vtkDebugMacro(<< "Hidden-link culling: fill " << report.fill << ", voxel " << report.voxel
                 << ", " << report.hiddenLinks << " of " << report.links << " hidden, "
-                << report.seconds << " s");
+                << report.seconds << " s (marking " << report.markSeconds << " s, testing "
+                << report.keepSeconds << " s)");
   if (outer)
   {
     this->HiddenLinks = static_cast<vtkIdType>(report.hiddenLinks);

@@ -599,6 +599,17 @@ TubeSet::ChunkPoints TubeSet::pointsOf(unsigned chunk) const
   return points;
 }
 
+void TubeSet::prefetchChunk(unsigned chunk) const
+{
+  for (unsigned c = chunk > 0 ? chunk - 1 : 0; c <= chunk; ++c)
+  {
+    const std::uint32_t start = Chunks[c].positions;
+    __builtin_prefetch(start & kCompactChunk ? static_cast<const void*>(Compact.data() + (start & ~kCompactChunk))
+                                             : static_cast<const void*>(Wide.data() + start));
+    __builtin_prefetch(Radii.data() + Chunks[c].firstRadius);
+  }
+}
+
 bool TubeSet::chunkStart(unsigned chunk, vec4& start) const
 {
   const std::int32_t first = Chunks[chunk].predecessor;

@@ -160,6 +160,9 @@ private:
     }
   };
   ChunkPoints pointsOf(unsigned chunk) const;
+  /// Starts loading what pointsOf(), chunkStart() and the chunk's radii read (its table
+  /// entries should be in the cache): for passes that visit chunks out of order.
+  void prefetchChunk(unsigned chunk) const;
   /// Chunked layout: the node a chunk's first link starts from (position, radius), read without
   /// a search where it is the previous chunk's last node; false where the chunk starts a tube.
   bool chunkStart(unsigned chunk, vec4& start) const;

@@ -6,6 +6,7 @@
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkFloatArray.h"
 #include "vtkTypeInt32Array.h"
 #include "vtkTypeInt64Array.h"
 #include "vtkInformation.h"
@@ -512,17 +513,25 @@ int vtkSightlineTRXReader::RequestData(
     {
       return fail(error);
     }
-    vtkDataArray* xyz = points->GetData();
-    for (vtkIdType v = 0; v < static_cast<vtkIdType>(vertices); ++v)
+    // Points are float or double (above): checked in place, not a virtual call a coordinate.
+    auto firstNonFinite = [](const auto* xyz, std::uint64_t count)
     {
-      for (int c = 0; c < 3; ++c)
+      std::uint64_t v = 0;
+      while (v < count && std::isfinite(xyz[3 * v]) && std::isfinite(xyz[3 * v + 1]) &&
+        std::isfinite(xyz[3 * v + 2]))
       {
-        if (!std::isfinite(xyz->GetComponent(v, c)))
-        {
-          return fail(Quote(positions.Member->Path) + ": vertex " +
-            std::to_string(firstVertex + static_cast<std::uint64_t>(v)) + " is not finite");
-        }
+        ++v;
       }
+      return v;
+    };
+    auto* floats = vtkFloatArray::FastDownCast(points->GetData());
+    const std::uint64_t finite = floats
+      ? firstNonFinite(floats->GetPointer(0), vertices)
+      : firstNonFinite(vtkDoubleArray::FastDownCast(points->GetData())->GetPointer(0), vertices);
+    if (finite < vertices)
+    {
+      return fail(Quote(positions.Member->Path) + ": vertex " + std::to_string(firstVertex + finite) +
+        " is not finite");
     }
     // Cell c runs over connectivity [offset c, offset c + 1): the vertex ids of the kept
     // streamlines, one after the other (0, 1, 2, ... when none is left out). 32-bit ids while

@@ -354,7 +354,8 @@ def main():
                              "load_before": load_before, "load_after": load()})
                 print(f" {r['load_s']:.2f} s, peak {rows[-1]['peak_rss_gb']:.2f} GB")
 
-    machine = f"{os.cpu_count()} cores, {ram / 2**30:.1f} GiB, loadavg {open('/proc/loadavg').read().split()[:3]}"
+    cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")), "")
+    machine = f"{cpu}, {os.cpu_count()} cores, {ram / 2**30:.1f} GiB, loadavg {open('/proc/loadavg').read().split()[:3]}"
     for row in rows:
         row["machine"] = machine
     path = os.path.join(args.output, f"results-whole-brain-{today}.csv")
@@ -394,7 +395,7 @@ def plot(rows, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    figure, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    figure, (left, right) = plt.subplots(1, 2, figsize=(12, 9))
     series = {}
     for r in rows:
         series.setdefault((r["layout"], r.get("opacity")), []).append(r)
@@ -417,7 +418,7 @@ def plot(rows, path):
         axis.set_xlabel("links")
         axis.set_title(title)
         axis.grid(True, which="both", alpha=0.3)
-        axis.legend(fontsize=6)
+        axis.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)  # under the axes: the points stay visible
     figure.suptitle("Whole-brain tractograms: vtkSightlineTRXReader + vtkSightlineTubeMapper, 1920x1080")
     figure.tight_layout()
     figure.savefig(path, dpi=110)

@@ -237,6 +237,11 @@ def child_render(trx, layout, opacity, image, pieces=1):
     result["geometry"], result["bvh"] = mapper.GetGeometryMemoryBytes(), mapper.GetBVHMemoryBytes()
     result["layout"] = mapper.GetBuiltLinkLayout()
     result["hidden"], result["outer"] = mapper.GetHiddenLinks(), mapper.GetLastFrameOuter()
+    # Where the first image's time went: reading and building (culling included), then the BVH.
+    result["build_s"], result["bvh_s"] = mapper.GetLastGeometrySeconds(), mapper.GetLastBuildSeconds()
+    result["culling_s"] = mapper.GetLastCullingSeconds()
+    result["culling_mark_s"], result["culling_test_s"] = (mapper.GetLastCullingMarkSeconds(),
+                                                          mapper.GetLastCullingTestSeconds())
     if image:
         writer = vtk.vtkPNGWriter()
         writer.SetInputConnection(renderer.GetOutputPort())
@@ -334,6 +339,9 @@ def main():
                        "rss_base_mb": r["base"][0],
                        "polydata_b_per_link": r.get("polydata_bytes", float("nan")) / n,
                        "first_image_s": r["first_s"], "still_frame_s": r["still_s"],
+                       "read_build_s": r["build_s"] - r["culling_s"], "culling_s": r["culling_s"],
+                       "culling_mark_s": r["culling_mark_s"], "culling_test_s": r["culling_test_s"],
+                       "bvh_build_s": r["bvh_s"],
                        "geometry_b_per_link": r["geometry"] / n, "bvh_b_per_link": r["bvh"] / n,
                        "rss_after_frames_mb": r["second"][0],
                        "peak_rss_gb": r["second"][1] * MIB / 1e9,

@@ -123,7 +123,9 @@ class Progress:
         step = int(fraction * 4)  # a line at 25, 50, 75 and 100 %, once the stage is slow
         if now - self.start > 0.5 and step > self.last:
             self.last = step
-            print(f"  {self.label}: {fraction * 100:3.0f}% ({now - self.start:.1f} s)",
+            stage = caller.GetProgressText()  # the part of a long build, where it names one
+            label = f"{self.label}, {stage}" if stage else self.label
+            print(f"  {label}: {fraction * 100:3.0f}% ({now - self.start:.1f} s)",
                   file=sys.stderr, flush=True)
 
     def watch(self, algorithm):

@@ -134,7 +134,11 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildGeometry()
   this->Streamed = StreamedRuns();
   if (this->PullsInputPieces())
   {
-    return this->BuildStreamedGeometry();
+    // Progress counts pieces; hidden-link culling then reports its own, under its own text.
+    this->SetProgressText("reading and building tubes");
+    auto tubes = this->BuildStreamedGeometry();
+    this->SetProgressText(nullptr);
+    return tubes;
   }
   if (this->StreamedPieces > 1 && this->GetNumberOfInputConnections(0) > 0)
   {
@@ -306,17 +310,25 @@ std::shared_ptr<sightline::Geometry> vtkSightlineTubeMapper::BuildOuterGeometry(
   const sightline::Geometry& whole)
 {
   this->HiddenLinks = 0;
+  this->LastCullingSeconds = this->LastCullingMarkSeconds = this->LastCullingTestSeconds = 0.0;
   const auto* tubes = dynamic_cast<const sightline::TubeSet*>(&whole);
   if (!this->HiddenLinkCulling || !tubes)
   {
     return nullptr;
   }
   sightline::OuterLinkReport report;
-  std::shared_ptr<sightline::TubeSet> outer = sightline::outerLinks(*tubes, {}, &report);
+  sightline::OuterLinkOptions options;
+  options.progress = SightlineKernelConversions::ProgressCallback(this);
+  this->SetProgressText("finding hidden links");
+  std::shared_ptr<sightline::TubeSet> outer = sightline::outerLinks(*tubes, options, &report);
+  this->SetProgressText(nullptr);
   vtkDebugMacro(<< "Hidden-link culling: fill " << report.fill << ", voxel " << report.voxel
                 << ", " << report.hiddenLinks << " of " << report.links << " hidden, "
                 << report.seconds << " s (marking " << report.markSeconds << " s, testing "
                 << report.keepSeconds << " s)");
+  this->LastCullingSeconds = report.seconds;
+  this->LastCullingMarkSeconds = report.markSeconds;
+  this->LastCullingTestSeconds = report.keepSeconds;
   if (outer)
   {
     this->HiddenLinks = static_cast<vtkIdType>(report.hiddenLinks);

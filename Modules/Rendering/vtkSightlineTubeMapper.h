@@ -194,7 +194,8 @@ public:
    * exactly the same (a ray from outside first meets the union's surface, which no hidden link
    * reaches); translucent frames, views from inside the bounds and a clipping Region trace every
    * link (their BVH is then built on first use). A pass over the links decides it, and runs only
-   * where tubes fill their bounding box 50 times over (sightline::outerLinks). Default on.
+   * where tubes fill their bounding box 50 times over (sightline::outerLinks); it reports
+   * progress (ProgressEvent, progress text "finding hidden links"). Default on.
    */
   vtkSetMacro(HiddenLinkCulling, vtkTypeBool);
   vtkGetMacro(HiddenLinkCulling, vtkTypeBool);
@@ -205,6 +206,16 @@ public:
    * Links the last build found hidden (0 where it culled none).
    */
   vtkGetMacro(HiddenLinks, vtkIdType);
+
+  /**
+   * Seconds the last build spent deciding which links are hidden (part of
+   * GetLastGeometrySeconds(); 0 where the pass did not run): of which marking covered voxels,
+   * and testing each link against them. What is left of the geometry time is reading the input
+   * and building the tubes.
+   */
+  vtkGetMacro(LastCullingSeconds, double);
+  vtkGetMacro(LastCullingMarkSeconds, double);
+  vtkGetMacro(LastCullingTestSeconds, double);
 
   /**
    * The layout the last build used (LINKS_AUTOMATIC resolved), -1 before any.
@@ -267,6 +278,9 @@ protected:
   int StreamedPieces = 1;
   vtkTypeBool HiddenLinkCulling = 1;
   vtkIdType HiddenLinks = 0;
+  double LastCullingSeconds = 0.0;
+  double LastCullingMarkSeconds = 0.0;
+  double LastCullingTestSeconds = 0.0;
 
 #ifndef __VTK_WRAP__
   /**

@@ -58,7 +58,7 @@ def ball_tractogram(fill, seed=4):
     return poly
 
 
-def render(poly, culling, position, opacity=1.0, region=None, chunk_links=8):
+def render(poly, culling, position, opacity=1.0, region=None, chunk_links=8, progress=None):
     producer = vtk.vtkTrivialProducer()
     producer.SetOutput(poly)
     mapper = sightline.vtkSightlineTubeMapper()
@@ -72,6 +72,9 @@ def render(poly, culling, position, opacity=1.0, region=None, chunk_links=8):
     mapper.SetScalarRange(0, poly.GetNumberOfPoints())
     if region:
         mapper.SetRegion(*region)
+    if progress is not None:  # (fraction, progress text) of each ProgressEvent
+        mapper.AddObserver(vtk.vtkCommand.ProgressEvent,
+                           lambda m, _: progress.append((m.GetProgress(), m.GetProgressText())))
     actor = vtk.vtkActor()
     actor.SetMapper(mapper)
     actor.GetProperty().SetOpacity(opacity)
@@ -117,6 +120,26 @@ class HiddenLinkCulling(unittest.TestCase):
             self.assertGreater(covered, SIZE[0] * SIZE[1] // 5)
             # Colours follow the points: the image is not one flat colour.
             self.assertGreater(len(np.unique(culled[0][culled[0][:, 3] > 0][:, 0])), 50)
+
+    def test_the_pass_reports_progress_and_its_time(self):
+        events = []
+        _, _, mapper = render(self.dense, 1, (-20, 3, 2), progress=events)
+        culling = [fraction for fraction, text in events if text == "finding hidden links"]
+        self.assertGreaterEqual(len(culling), 3, events)
+        self.assertEqual(culling[0], 0.0)
+        self.assertEqual(culling[-1], 1.0)
+        self.assertEqual(culling, sorted(culling))
+        self.assertGreater(mapper.GetHiddenLinks(), 0)
+        total = mapper.GetLastCullingSeconds()
+        self.assertGreater(total, 0.0)
+        self.assertLessEqual(mapper.GetLastCullingMarkSeconds() + mapper.GetLastCullingTestSeconds(), total)
+        self.assertGreater(mapper.GetLastCullingMarkSeconds(), 0.0)
+        self.assertGreaterEqual(mapper.GetLastGeometrySeconds(), total)
+        # Without culling there is no such pass, and no progress under its name.
+        events = []
+        _, _, whole = render(self.dense, 0, (-20, 3, 2), progress=events)
+        self.assertEqual(whole.GetLastCullingSeconds(), 0.0)
+        self.assertFalse([e for e in events if e[1] == "finding hidden links"])
 
     def test_translucent_inside_and_clipped_views_trace_every_link(self):
         cases = [

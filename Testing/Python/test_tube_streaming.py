@@ -162,6 +162,19 @@ class TubeStreaming(unittest.TestCase):
         covered = image[image[:, 3] > 0]
         self.assertGreater(np.ptp(covered[:, 0] - covered[:, 2]), 100)
 
+    def test_progress_counts_pieces_under_its_own_text(self):
+        mapper = tube_mapper(reader_for(self.files["trx"]), 4)
+        events = []
+        mapper.AddObserver(vtk.vtkCommand.ProgressEvent,
+                           lambda m, _: events.append((m.GetProgress(), m.GetProgressText())))
+        render(mapper, self.camera)
+        expected = [((k + 1) / 4, "reading and building tubes") for k in range(4)]
+        self.assertEqual(events[:4], expected)
+        # Then the frame's own progress, no longer under the build's text.
+        self.assertGreater(len(events), 4)
+        self.assertTrue(all(text is None for _, text in events[4:]), events)
+        self.assertIsNone(mapper.GetProgressText())
+
     def test_more_pieces_than_streamlines(self):
         self.compare(self.files["trx"], self.streamlines + 5)
 

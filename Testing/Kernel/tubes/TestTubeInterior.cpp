@@ -10,9 +10,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
+#include <thread>
+#include <vector>
 
 using namespace sightline;
 
@@ -129,6 +132,24 @@ TEST(TubeInterior, CoveredVoxelsLieInsideTheLinks)
   EXPECT_TRUE(grid.covers(Box3{ vec3(2.4f, -0.2f, -0.1f), vec3(2.6f, 0.2f, 0.1f) }));
   EXPECT_FALSE(grid.covers(Box3{ vec3(2.4f, 0.0f, -0.1f), vec3(2.6f, 0.2f, 1.2f) }));
   EXPECT_FALSE(grid.covers(Box3{ vec3(-3.0f), vec3(-2.5f) })); // outside the grid
+  // The summaries (blocks, a bit per brick) answer as the bricks' words do.
+  std::vector<Box3> boxes;
+  std::vector<bool> answers;
+  for (int i = 0; i < 20000; ++i)
+  {
+    const vec3 lower(x(rng), yz(rng), yz(rng));
+    boxes.push_back(Box3{ lower, lower + vec3(2.0f * size(rng)) });
+    answers.push_back(grid.covers(boxes.back()));
+  }
+  grid.summarize();
+  int agreed = 0, coveredBoxes = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+  {
+    agreed += grid.covers(boxes[i]) == answers[i];
+    coveredBoxes += answers[i];
+  }
+  EXPECT_EQ(agreed, int(boxes.size()));
+  EXPECT_GT(coveredBoxes, 10);
   // A link thinner than a voxel's diagonal marks nothing.
   TubeInteriorGrid thin(Box3{ vec3(-2.0f), vec3(7.0f, 3.0f, 2.0f) }, 0.1);
   EXPECT_FALSE(thin.coverLink(vec4(0.0f, 0.0f, 0.0f, 0.17f), vec4(5.0f, 0.0f, 0.0f, 0.5f)));
@@ -207,4 +228,33 @@ TEST(TubeInterior, SparseAndUnchunkedSetsAreNotCulled)
   EXPECT_FALSE(outerLinks(*chunkedSet(dense, dvec3(0.0), 8), options, &report));
   EXPECT_GT(report.voxel, 0.0);
   EXPECT_GT(report.hiddenLinks, 0u);
+}
+
+TEST(TubeInterior, OuterLinksReportProgressOnTheCallingThread)
+{
+  const DenseBall ball = denseBall(160.0, 11);
+  const auto whole = chunkedSet(ball, dvec3(0.0), 8);
+  OuterLinkOptions options;
+  options.maximumKept = 1.0;
+  std::vector<double> fractions;
+  bool sameThread = true;
+  const auto caller = std::this_thread::get_id();
+  options.progress = [&](double fraction)
+  {
+    sameThread = sameThread && std::this_thread::get_id() == caller;
+    fractions.push_back(fraction);
+  };
+  OuterLinkReport withProgress, without;
+  const auto reported = outerLinks(*whole, options, &withProgress);
+  options.progress = {};
+  const auto quiet = outerLinks(*whole, options, &without);
+  ASSERT_TRUE(reported && quiet);
+  EXPECT_TRUE(sameThread);
+  ASSERT_GE(fractions.size(), 3u);
+  EXPECT_EQ(fractions.front(), 0.0);
+  EXPECT_EQ(fractions.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  // Marking order between threads may differ; what it finds hidden hardly does.
+  EXPECT_NEAR(double(withProgress.hiddenLinks), double(without.hiddenLinks), 0.01 * double(without.links));
+  EXPECT_GT(withProgress.hiddenLinks, whole->pointCount() / 3);
 }

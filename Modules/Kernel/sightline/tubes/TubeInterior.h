@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -44,10 +45,12 @@ public:
   /// coverLink() for `count` links (starts[i] to ends[i]); `marks` is scratch space.
   void coverLinks(const vec4* starts, const vec4* ends, std::size_t count, std::vector<Mark>& marks);
   /// Whether every voxel of every brick that meets `box` is covered (false outside the grid).
-  /// Call summarize() after the last coverLink() first.
+  /// Call summarize() after the last coverLink() first: covers() then reads its summaries, and
+  /// sees no later marks (which can only make it answer false where it might say true).
   bool covers(const Box3& box) const;
   /// Notes which blocks of 4x4x4 bricks are wholly covered, so that covers() reads one bit
-  /// for a box inside such blocks (most boxes, deep in a dense set).
+  /// for a box inside such blocks (most boxes, deep in a dense set), and which bricks are, a
+  /// bit each for the others.
   void summarize();
 
   double voxel() const { return Voxel; }
@@ -76,6 +79,7 @@ private:
   Table Bricks;
   std::int64_t BlockDims[3] = { 0, 0, 0 };
   std::vector<std::uint8_t> FullBlocks; ///< summarize(): 1 where all 64 bricks are full
+  std::vector<std::uint8_t> FullBricks; ///< summarize(): a bit per full brick, a byte per tile
 };
 
 /// What outerLinks() found.
@@ -105,6 +109,9 @@ struct OuterLinkOptions
   unsigned chunkSize = 2;
   /// Most bricks of the grid (8 bytes each): the voxel grows to stay below it.
   std::size_t maximumBricks = std::size_t(1) << 25;
+  /// Called on the calling thread with the fraction done (0..1) between slices of the passes
+  /// (may be empty). Its result, if any, is ignored: the pass cannot be stopped.
+  std::function<void(double)> progress;
 };
 
 /// A chunked tube set holding only the links of `set` (chunked) that are not hidden by the

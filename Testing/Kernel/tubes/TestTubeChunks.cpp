@@ -447,6 +447,12 @@ void expectSameSet(const TubeSet& built, const TubeSet& reference)
   EXPECT_EQ(built.hasPrimitiveColors(), reference.hasPrimitiveColors());
   EXPECT_EQ(built.bounds().lower, reference.bounds().lower);
   EXPECT_EQ(built.bounds().upper, reference.bounds().upper);
+  // Both grow their bounds chunk by chunk while building: exactly the union of the chunks' boxes.
+  Box3 chunks;
+  for (unsigned c = 0; c < built.size(); ++c)
+    chunks.extend(built.bounds(c));
+  EXPECT_EQ(built.bounds().lower, chunks.lower);
+  EXPECT_EQ(built.bounds().upper, chunks.upper);
 }
 } // namespace
 

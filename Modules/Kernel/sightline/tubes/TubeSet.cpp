@@ -267,8 +267,9 @@ void TubeSet::construct(const std::vector<vec3>& points, const std::vector<float
   Colors.shrink_to_fit();
   NodeCount = Nodes.size();
   if (Layout.primitives == TubeLayout::Primitives::Chunked)
-    buildChunks();
-  AllBounds = primitiveBoundsUnion();
+    buildChunks(); // (AllBounds grows chunk by chunk)
+  else
+    AllBounds = primitiveBoundsUnion();
 }
 
 Box3 TubeSet::primitiveBoundsUnion() const
@@ -456,25 +457,91 @@ void TubeSet::appendChunkNode(const vec3& position, float radius, std::int32_t p
   ++NodeCount;
 }
 
-void TubeSet::storeOpenPositions()
+void TubeSet::appendLinkedNodes(const vec3* points, const float* radii, std::size_t count)
 {
-  if (OpenPositions.empty())
-    return;
+  // appendChunkNode's chunks for the same nodes, each stored as soon as it is complete: no
+  // copy through the open chunk, and one pass per chunk (the streamed build's hot path).
+  closeChunk();
+  const std::size_t size = Layout.chunkSize;
+  for (std::size_t k = 0; k < count; k += size)
+  {
+    const std::size_t m = std::min(size, count - k);
+    const std::uint32_t node = std::uint32_t(NodeCount + k);
+    Chunks.push_back(ChunkEntry{ node, k > 0 ? std::int32_t(node) - 1 : -1, std::uint32_t(Radii.size()), 0, 0.0f });
+    if (std::all_of(radii + k + 1, radii + k + m, [&](float v) { return v == radii[k]; }))
+      Radii.push_back(radii[k]);
+    else
+      Radii.insert(Radii.end(), radii + k, radii + k + m);
+    const vec4 start = k > 0 ? vec4(points[k - 1], radii[k - 1]) : vec4(0.0f);
+    storeChunk(points + k, radii + k, m, k > 0 ? &start : nullptr);
+  }
+  NodeCount += count;
+}
+
+void TubeSet::storeChunk(const vec3* positions, const float* radii, std::size_t count, const vec4* start)
+{
+  // The capsule about the segment from the chunk's first to last node that holds all its
+  // spheres (its first link's start too) holds its links (each in the hull of its spheres).
+  // The boxes of the same spheres hold the chunk (chunkBounds): their union is the set's, kept
+  // here rather than in a pass over 10^8 chunks after the build.
+  const dvec3 p0 = dvec3(positions[0]), axis = dvec3(positions[count - 1]) - p0;
+  const double length2 = glm::dot(axis, axis);
+  const double inverse = length2 > 0.0 ? 1.0 / length2 : 0.0;
+  auto distance2 = [&](const vec3& center)
+  {
+    const dvec3 w = dvec3(center) - p0;
+    const dvec3 d = w - std::clamp(glm::dot(w, axis) * inverse, 0.0, 1.0) * axis;
+    return glm::dot(d, d);
+  };
+  double reach = 0.0;
+  Box3 box;
+  if (start)
+    box.extend(sphereBox(*start));
+  if (std::all_of(radii + 1, radii + count, [&](float v) { return v == radii[0]; }) &&
+    (!start || start->w == radii[0]))
+  {
+    // One radius: the farthest centre decides, one square root (the same value as below).
+    double farthest = start ? distance2(vec3(*start)) : 0.0;
+    vec3 lower = positions[0], upper = positions[0];
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      farthest = std::max(farthest, distance2(positions[i]));
+      lower = glm::min(lower, positions[i]);
+      upper = glm::max(upper, positions[i]);
+    }
+    reach = std::sqrt(farthest) + double(radii[0]);
+    box.extend(Box3{ lower - vec3(radii[0]), upper + vec3(radii[0]) });
+  }
+  else
+  {
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      reach = std::max(reach, std::sqrt(distance2(positions[i])) + double(radii[i]));
+      box.extend(sphereBox(vec4(positions[i], radii[i])));
+    }
+    if (start)
+      reach = std::max(reach, std::sqrt(distance2(vec3(*start))) + double(start->w));
+  }
+  // Rounded up, and padded against the rounding of the test (linkMissed's padding).
+  reach += 1e-7 * (reach + std::sqrt(length2) + glm::length(p0)) + 1e-30;
+  Chunks.back().reach = std::nextafter(float(reach), kInfinity);
+  AllBounds.extend(padAndPlace(box, Origin));
+
   // Per axis, the first anchor from which every position comes back exactly as anchor + the
   // float16 nearest its offset: the chunk's first point (offsets within a chunk are small),
   // the world origin in the set's frame (then the offsets are the world positions: exact for
   // float16 files when Origin is a float, see SightlineKernelConversions::ToLocalFrame), zero.
   vec3 anchor(0.0f);
   // Compact costs 6 bytes a node and 12 for the anchor: less than 12 a node from 3 nodes on.
-  bool compact = OpenPositions.size() > 2;
+  bool compact = count > 2;
   for (int axis = 0; axis < 3 && compact; ++axis)
   {
     const float world = float(-Origin[axis]);
-    const float candidates[3] = { OpenPositions.front()[axis], double(world) == -Origin[axis] ? world : 0.0f, 0.0f };
+    const float candidates[3] = { positions[0][axis], double(world) == -Origin[axis] ? world : 0.0f, 0.0f };
     compact = false;
     for (float a : candidates)
     {
-      compact = std::all_of(OpenPositions.begin(), OpenPositions.end(),
+      compact = std::all_of(positions, positions + count,
         [&](const vec3& p)
         {
           const float offset = p[axis] - a;
@@ -488,7 +555,7 @@ void TubeSet::storeOpenPositions()
     }
   }
   // A size() past the top bit would be taken for a compact chunk's start.
-  auto start = [](std::size_t index)
+  auto first = [](std::size_t index)
   {
     if (index >= kCompactChunk)
       throw std::length_error("sightline::TubeSet: more chunk positions than 2^31 entries");
@@ -502,56 +569,39 @@ void TubeSet::storeOpenPositions()
   if (compact)
   {
     reserve(Compact, ReserveHint + 2 * ChunkHint);
-    Chunks.back().positions = kCompactChunk | start(Compact.size());
+    Chunks.back().positions = kCompactChunk | first(Compact.size());
     Half3 bits[2];
     static_assert(sizeof(bits) == sizeof(vec3), "an anchor is two entries");
     std::memcpy(bits, &anchor, sizeof(bits));
     Compact.push_back(bits[0]);
     Compact.push_back(bits[1]);
-    for (const vec3& p : OpenPositions)
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const vec3& p = positions[i];
       Compact.push_back(Half3{ { halfOfExact(p.x - anchor.x), halfOfExact(p.y - anchor.y),
         halfOfExact(p.z - anchor.z) } });
+    }
   }
   else
   {
     reserve(Wide, ReserveHint);
-    Chunks.back().positions = start(Wide.size());
-    Wide.insert(Wide.end(), OpenPositions.begin(), OpenPositions.end());
+    Chunks.back().positions = first(Wide.size());
+    Wide.insert(Wide.end(), positions, positions + count);
   }
-  OpenPositions.clear();
 }
 
 void TubeSet::closeChunk()
 {
-  if (!OpenPositions.empty())
-  {
-    // The capsule about the segment from the chunk's first to last node that holds all its
-    // spheres (its first link's start too) holds its links (each in the hull of its spheres).
-    const dvec3 p0 = dvec3(OpenPositions.front()), axis = dvec3(OpenPositions.back()) - p0;
-    const double length2 = glm::dot(axis, axis);
-    double reach = 0.0;
-    auto include = [&](const vec3& center, float radius)
-    {
-      const dvec3 w = dvec3(center) - p0;
-      const double s = length2 > 0.0 ? std::clamp(glm::dot(w, axis) / length2, 0.0, 1.0) : 0.0;
-      reach = std::max(reach, glm::length(w - s * axis) + double(radius));
-    };
-    const std::size_t r = Chunks.back().firstRadius;
-    for (std::size_t i = 0; i < OpenPositions.size(); ++i)
-      include(OpenPositions[i], Radii[r + i]);
-    vec4 start; // (the previous chunk's last node mostly: no search per chunk while building)
-    if (chunkStart(unsigned(Chunks.size() - 1), start))
-      include(vec3(start), start.w);
-    // Rounded up, and padded against the rounding of the test (linkMissed's padding).
-    reach += 1e-7 * (reach + std::sqrt(length2) + glm::length(p0)) + 1e-30;
-    Chunks.back().reach = std::nextafter(float(reach), kInfinity);
-  }
-  storeOpenPositions();
-  if (Chunks.empty())
+  if (OpenPositions.empty())
     return;
   const std::size_t r = Chunks.back().firstRadius;
-  if (Radii.size() > r + 1 &&
-    std::all_of(Radii.begin() + std::ptrdiff_t(r), Radii.end(), [&](float v) { return v == Radii[r]; }))
+  const bool constant = std::all_of(Radii.begin() + std::ptrdiff_t(r), Radii.end(), [&](float v) { return v == Radii[r]; });
+  // The open chunk holds a radius per node: one is kept where they are all equal.
+  vec4 start;
+  const bool linked = chunkStart(unsigned(Chunks.size() - 1), start);
+  storeChunk(OpenPositions.data(), Radii.data() + r, OpenPositions.size(), linked ? &start : nullptr);
+  OpenPositions.clear();
+  if (constant)
     Radii.resize(r + 1);
 }
 
@@ -782,33 +832,38 @@ void TubeRunBuilder::addRun(
     throw std::invalid_argument("sightline::TubeRunBuilder: " + std::to_string(Given + count) +
       " points exceed the 2^31 - 1 a tube set indexes");
   TubeSet& set = *Set;
-  bool linked = false; // whether the last point of this run was kept
-  for (std::size_t i = 0; i < count; ++i, ++Given)
+  const std::size_t given = Given;
+  Given += count;
+  // Stretches of good points, each a tube of its own: a bad point ends the tube before it.
+  for (std::size_t i = 0; i < count;)
   {
-    if (!(isFinite(points[i]) && std::isfinite(radii[i]) && radii[i] >= 0.0f))
+    std::size_t end = i;
+    while (end < count && isFinite(points[end]) && std::isfinite(radii[end]) && radii[end] >= 0.0f)
+      ++end;
+    if (end > i)
     {
-      // The same reason, worded the same, as the constructor's.
-      if (set.Report.rejected++ == 0)
-      {
-        set.Report.reasons.push_back("point " + std::to_string(Given) +
-          " has a non-finite position or a negative or non-finite radius (first of the points "
-          "dropped for this reason, with their links)");
-        // Kept nodes so far are the points given so far, in order.
-        SourceIndex.resize(set.NodeCount);
-        for (std::size_t k = 0; k < SourceIndex.size(); ++k)
-          SourceIndex[k] = std::uint32_t(k);
-      }
-      linked = false;
-      continue;
+      set.appendLinkedNodes(points + i, radii + i, end - i);
+      set.Links += end - i - 1;
+      if (colors)
+        set.Colors.insert(set.Colors.end(), colors + i, colors + end);
+      if (set.Report.rejected > 0)
+        for (std::size_t k = i; k < end; ++k)
+          SourceIndex.push_back(std::uint32_t(given + k));
     }
-    const std::int32_t node = std::int32_t(set.NodeCount);
-    set.appendChunkNode(points[i], radii[i], linked ? node - 1 : -1);
-    set.Links += linked ? 1 : 0;
-    if (colors)
-      set.Colors.push_back(colors[i]);
-    if (set.Report.rejected > 0)
-      SourceIndex.push_back(std::uint32_t(Given));
-    linked = true;
+    if (end == count)
+      break;
+    // The same reason, worded the same, as the constructor's.
+    if (set.Report.rejected++ == 0)
+    {
+      set.Report.reasons.push_back("point " + std::to_string(given + end) +
+        " has a non-finite position or a negative or non-finite radius (first of the points "
+        "dropped for this reason, with their links)");
+      // Kept nodes so far are the points given so far, in order.
+      SourceIndex.resize(set.NodeCount);
+      for (std::size_t k = 0; k < SourceIndex.size(); ++k)
+        SourceIndex[k] = std::uint32_t(k);
+    }
+    i = end + 1;
   }
 }
 
@@ -818,8 +873,7 @@ std::shared_ptr<TubeSet> TubeRunBuilder::finish()
     throw std::logic_error("sightline::TubeRunBuilder: finish() called twice");
   std::shared_ptr<TubeSet> set = std::move(Set);
   set->SourceIndex = std::move(SourceIndex);
-  set->finishChunks();
-  set->AllBounds = set->primitiveBoundsUnion();
+  set->finishChunks(); // (AllBounds grew chunk by chunk)
   return set;
 }
 } // namespace sightline

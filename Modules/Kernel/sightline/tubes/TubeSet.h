@@ -166,8 +166,9 @@ private:
   /// Chunked layout: the node a chunk's first link starts from (position, radius), read without
   /// a search where it is the previous chunk's last node; false where the chunk starts a tube.
   bool chunkStart(unsigned chunk, vec4& start) const;
-  /// Chunked layout: stores the open chunk's positions, compactly where that is exact.
-  void storeOpenPositions();
+  /// Chunked layout: the last chunk's reach and positions (compactly where that is exact) from
+  /// its `count` nodes (and radii); `start` is the node its first link starts from, or null.
+  void storeChunk(const vec3* positions, const float* radii, std::size_t count, const vec4* start);
   /// Stump parameters in single precision (the precomputed layouts).
   struct StoredStump
   {
@@ -181,7 +182,10 @@ private:
   /// Chunked layout: appends a node linked to `predecessor` (a kept node or -1); it joins the
   /// open chunk when it links to the node before and the chunk has room.
   void appendChunkNode(const vec3& position, float radius, std::int32_t predecessor);
-  /// Chunked layout: one radius for the open (last) chunk when all its radii are equal.
+  /// Chunked layout: appends `count` nodes, the first starting a tube and each other linked to
+  /// the node before, in chunks stored at once (what appendChunkNode gives for the same nodes).
+  void appendLinkedNodes(const vec3* points, const float* radii, std::size_t count);
+  /// Chunked layout: stores the open (last) chunk, with one radius where all its radii are equal.
   void closeChunk();
   /// Chunked layout: closes the open chunk and ends the chunk tables with the node and radius
   /// counts (as the chunk members' comment below has them).

@@ -217,16 +217,8 @@ void ConvertRows(
       CopyValues<double>(bytes, values, array, firstValue);
       break;
     case DType::Float16:
-    {
-      float* out = static_cast<float*>(array->GetVoidPointer(0)) + firstValue;
-      for (std::size_t i = 0; i < values; ++i)
-      {
-        std::uint16_t half;
-        std::memcpy(&half, bytes + 2 * i, 2);
-        out[i] = sightline::halfToFloat(half);
-      }
+      sightline::halvesToFloats(bytes, values, static_cast<float*>(array->GetVoidPointer(0)) + firstValue);
       break;
-    }
   }
 }
 } // namespace trx

@@ -8,8 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 using namespace sightline;
 
@@ -80,4 +82,80 @@ TEST(Half, HalfHoldsExactlyTheFloatsThatRoundTrip)
       ASSERT_EQ(halfOfExact(f), floatToHalf(f)) << std::hexfloat << f;
     }
   }
+}
+
+TEST(Half, ArraysEncodeAsTheirValuesDo)
+{
+  // halvesOfExact() (the CPU's conversion, eight at a time, where it has one) against
+  // halfHolds/halfOfExact value by value: every finite half in one array, then arrays with one
+  // value that is not a half, at every position of a block of eight and of the tail.
+  std::vector<float> values;
+  std::vector<std::uint16_t> expected;
+  for (unsigned h = 0; h < 65536; ++h)
+  {
+    const float f = halfToFloat(std::uint16_t(h));
+    if (std::isfinite(f))
+    {
+      values.push_back(f);
+      expected.push_back(std::uint16_t(h));
+    }
+  }
+  std::vector<std::uint16_t> out(values.size());
+  ASSERT_TRUE(halvesOfExact(values.data(), values.size(), out.data()));
+  EXPECT_EQ(out, expected);
+  const float notHalves[] = { std::nextafter(1.0f, 2.0f), 65520.0f, -70000.0f,
+    std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+    std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::signaling_NaN(),
+    std::numeric_limits<float>::denorm_min(), std::ldexp(1.0f, -25), 1e-30f };
+  std::mt19937 rng(5);
+  for (float bad : notHalves)
+    for (std::size_t at = 0; at < 19; ++at)
+    {
+      std::vector<float> some(19);
+      for (float& v : some)
+        v = values[rng() % values.size()];
+      some[at] = bad;
+      std::vector<std::uint16_t> encoded(some.size());
+      EXPECT_FALSE(halvesOfExact(some.data(), some.size(), encoded.data())) << bad << " at " << at;
+      some[at] = values[at];
+      ASSERT_TRUE(halvesOfExact(some.data(), some.size(), encoded.data()));
+      for (std::size_t i = 0; i < some.size(); ++i)
+        EXPECT_EQ(encoded[i], halfOfExact(some[i]));
+    }
+}
+
+TEST(Half, ArraysDecodeAsTheirValuesDo)
+{
+  // halvesToFloats() against halfToFloat, bit for bit (signalling NaNs keep their bits): all
+  // 65536 halves in order, from an odd address; then runs of finite halves with one infinity
+  // or NaN at every position of a block of eight and of the tail.
+  std::vector<unsigned char> bytes(2 * 65536 + 1);
+  for (unsigned h = 0; h < 65536; ++h)
+  {
+    const std::uint16_t half = std::uint16_t(h);
+    std::memcpy(bytes.data() + 1 + 2 * h, &half, 2);
+  }
+  auto expectSame = [](const unsigned char* halves, std::size_t count)
+  {
+    std::vector<float> out(count);
+    halvesToFloats(halves, count, out.data());
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      std::uint16_t half;
+      std::memcpy(&half, halves + 2 * i, 2);
+      const float f = halfToFloat(half);
+      ASSERT_EQ(std::memcmp(&out[i], &f, 4), 0) << "half " << half << " at " << i;
+    }
+  };
+  expectSame(bytes.data() + 1, 65536);
+  std::mt19937 rng(7);
+  for (std::uint16_t special : { std::uint16_t(0x7C00), std::uint16_t(0xFC00), std::uint16_t(0x7C01), std::uint16_t(0xFE00) })
+    for (std::size_t at = 0; at < 21; ++at)
+    {
+      std::vector<std::uint16_t> run(21);
+      for (std::uint16_t& h : run)
+        h = std::uint16_t(rng() % 0x7C00u);
+      run[at] = special;
+      expectSame(reinterpret_cast<const unsigned char*>(run.data()), run.size());
+    }
 }

@@ -442,7 +442,9 @@ void expectSameSet(const TubeSet& built, const TubeSet& reference)
     EXPECT_EQ(built.predecessorOf(node), reference.predecessorOf(node)) << "node " << node;
     EXPECT_EQ(built.sourceIndexOf(node), reference.sourceIndexOf(node)) << "node " << node;
     if (reference.hasPrimitiveColors())
+    {
       EXPECT_EQ(built.partColor(2 * node), reference.partColor(2 * node));
+    }
   }
   EXPECT_EQ(built.hasPrimitiveColors(), reference.hasPrimitiveColors());
   EXPECT_EQ(built.bounds().lower, reference.bounds().lower);

@@ -5,9 +5,16 @@
 // positions share one conversion.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
+#if defined(__x86_64__) || defined(__i386__)
+#include <cpuid.h>
+#include <immintrin.h>
+#define SIGHTLINE_HALF_F16C 1
+#endif
 
 namespace sightline
 {
@@ -68,6 +75,119 @@ inline std::uint16_t halfOfExact(float value)
   if (exponent >= -14)
     return std::uint16_t(sign | std::uint32_t(exponent + 15) << 10 | ((magnitude >> 13) & 0x3FFu));
   return std::uint16_t(sign | std::uint16_t(std::fabs(value) * 16777216.0f)); // units of 2^-24
+}
+
+#ifdef SIGHTLINE_HALF_F16C
+namespace detail
+{
+/// Whether this CPU converts halves itself (F16C, with the AVX state the OS saves): every x86
+/// CPU since 2012, tested at run time because builds target the plain x86-64 baseline.
+inline bool cpuConvertsHalves()
+{
+  static const bool converts = []
+  {
+    unsigned a, b, c, d;
+    if (!__get_cpuid(1, &a, &b, &c, &d) || !(c & (1u << 29)) || !(c & (1u << 28)) || !(c & (1u << 27)))
+      return false;
+    unsigned low, high;
+    __asm__("xgetbv" : "=a"(low), "=d"(high) : "c"(0));
+    return (low & 6u) == 6u;
+  }();
+  return converts;
+}
+
+/// halvesOfExact() eight values at a time; returns how many it encoded (a multiple of 8), or
+/// ~0 where one of them is not a finite half.
+__attribute__((target("avx,f16c"))) inline std::size_t halvesOfExactF16C(
+  const float* values, std::size_t count, std::uint16_t* out)
+{
+  // Compared as bits, not as floats: the same answer whatever MXCSR's denormal modes (a float
+  // denormal, never a half, then converts to a zero of other bits). 65504, the largest half,
+  // is 0x477FE000; above it come infinity and NaN.
+  const __m128i magnitude = _mm_set1_epi32(0x7FFFFFFF), largest = _mm_set1_epi32(0x477FE000);
+  auto exact = [&](__m128i value, __m128i back)
+  {
+    return _mm_andnot_si128(_mm_cmpgt_epi32(_mm_and_si128(value, magnitude), largest), _mm_cmpeq_epi32(value, back));
+  };
+  std::size_t i = 0;
+  for (; i + 8 <= count; i += 8)
+  {
+    const __m256 v = _mm256_loadu_ps(values + i);
+    const __m128i h = _mm256_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    const __m256i bits = _mm256_castps_si256(v), back = _mm256_castps_si256(_mm256_cvtph_ps(h));
+    const __m128i both = _mm_and_si128(
+      exact(_mm256_castsi256_si128(bits), _mm256_castsi256_si128(back)),
+      exact(_mm256_extractf128_si256(bits, 1), _mm256_extractf128_si256(back, 1)));
+    if (_mm_movemask_epi8(both) != 0xFFFF)
+      return ~std::size_t(0);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), h);
+  }
+  return i;
+}
+/// halvesToFloats() eight at a time; returns how many it converted. Blocks holding an infinity
+/// or NaN are left to halfToFloat (the CPU quiets signalling NaNs; halfToFloat keeps their bits).
+__attribute__((target("avx,f16c"))) inline std::size_t halvesToFloatsF16C(
+  const void* halves, std::size_t count, float* out)
+{
+  const auto* bytes = static_cast<const unsigned char*>(halves);
+  const __m128i exponent = _mm_set1_epi16(0x7C00);
+  std::size_t i = 0;
+  for (; i + 8 <= count; i += 8)
+  {
+    const __m128i h = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bytes + 2 * i));
+    if (_mm_movemask_epi8(_mm_cmpeq_epi16(_mm_and_si128(h, exponent), exponent)) != 0)
+      break;
+    _mm256_storeu_ps(out + i, _mm256_cvtph_ps(h));
+  }
+  return i;
+}
+} // namespace detail
+#endif
+
+/// halfToFloat() of `count` halves (native byte order, any alignment) into `out`, with the
+/// CPU's conversion instructions where it has them: a whole-brain tractogram's float16
+/// positions are 3 * 10^9 halves.
+inline void halvesToFloats(const void* halves, std::size_t count, float* out)
+{
+  const auto* bytes = static_cast<const unsigned char*>(halves);
+  std::size_t i = 0;
+  while (i < count)
+  {
+#ifdef SIGHTLINE_HALF_F16C
+    if (detail::cpuConvertsHalves())
+      i += detail::halvesToFloatsF16C(bytes + 2 * i, count - i, out + i);
+#endif
+    // A block the CPU left (or the tail, or every value without it): value by value.
+    for (const std::size_t end = std::min(count, i + 8); i < end; ++i)
+    {
+      std::uint16_t half;
+      std::memcpy(&half, bytes + 2 * i, 2);
+      out[i] = halfToFloat(half);
+    }
+  }
+}
+
+/// halfOfExact() of `count` values into `out`; false (with `out` partly written) where one is not
+/// a finite half (halfHolds). With the CPU's conversion instructions where it has them: the
+/// streamed build of compact tubes encodes 10^9 positions.
+inline bool halvesOfExact(const float* values, std::size_t count, std::uint16_t* out)
+{
+  std::size_t i = 0;
+#ifdef SIGHTLINE_HALF_F16C
+  if (detail::cpuConvertsHalves())
+  {
+    i = detail::halvesOfExactF16C(values, count, out);
+    if (i > count)
+      return false;
+  }
+#endif
+  for (; i < count; ++i)
+  {
+    if (!halfHolds(values[i]))
+      return false;
+    out[i] = halfOfExact(values[i]);
+  }
+  return true;
 }
 
 /// The half nearest a float, ties to even; NaN stays NaN, beyond 65504 gives infinity.

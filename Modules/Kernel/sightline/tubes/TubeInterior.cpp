@@ -101,7 +101,11 @@ bool TubeInteriorGrid::collectMarks(const vec4& a, const vec4& b, std::vector<Ma
     last = voxel;
     const std::size_t brick = brickOf(x >> 2, y >> 2, z >> 2);
     __builtin_prefetch(&Bricks[brick]);
-    marks.push_back(Mark{ brick, std::uint64_t(1) << ((x & 3) + 4 * (y & 3) + 16 * (z & 3)) });
+    // Written field by field into the vector: a Mark built on the stack was copied by one
+    // 16-byte load of two 8-byte stores, which stalled on every mark.
+    Mark& mark = marks.emplace_back();
+    mark.brick = brick;
+    mark.bit = std::uint64_t(1) << ((x & 3) + 4 * (y & 3) + 16 * (z & 3));
   }
   return true;
 }

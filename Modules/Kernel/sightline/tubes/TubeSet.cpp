@@ -534,7 +534,27 @@ void TubeSet::storeChunk(const vec3* positions, const float* radii, std::size_t 
   vec3 anchor(0.0f);
   // Compact costs 6 bytes a node and 12 for the anchor: less than 12 a node from 3 nodes on.
   bool compact = count > 2;
-  for (int axis = 0; axis < 3 && compact; ++axis)
+  // The first point on every axis is the anchor of nearly every chunk: tried in one pass over
+  // all the offsets at once, encoded by the CPU's conversion where it has one.
+  constexpr std::size_t kAtOnce = 32;
+  std::uint16_t halves[3 * kAtOnce];
+  bool encoded = false;
+  if (compact && count <= kAtOnce)
+  {
+    float offsets[3 * kAtOnce];
+    bool exact = true;
+    for (std::size_t i = 0; i < count; ++i)
+      for (int axis = 0; axis < 3; ++axis)
+      {
+        const float offset = positions[i][axis] - positions[0][axis];
+        offsets[3 * i + std::size_t(axis)] = offset;
+        exact &= positions[0][axis] + offset == positions[i][axis];
+      }
+    encoded = exact && halvesOfExact(offsets, 3 * count, halves);
+    if (encoded)
+      anchor = positions[0];
+  }
+  for (int axis = 0; axis < 3 && compact && !encoded; ++axis)
   {
     const float world = float(-Origin[axis]);
     const float candidates[3] = { positions[0][axis], double(world) == -Origin[axis] ? world : 0.0f, 0.0f };
@@ -578,8 +598,9 @@ void TubeSet::storeChunk(const vec3* positions, const float* radii, std::size_t 
     for (std::size_t i = 0; i < count; ++i)
     {
       const vec3& p = positions[i];
-      Compact.push_back(Half3{ { halfOfExact(p.x - anchor.x), halfOfExact(p.y - anchor.y),
-        halfOfExact(p.z - anchor.z) } });
+      Compact.push_back(encoded ? Half3{ { halves[3 * i], halves[3 * i + 1], halves[3 * i + 2] } }
+                                : Half3{ { halfOfExact(p.x - anchor.x), halfOfExact(p.y - anchor.y),
+                                    halfOfExact(p.z - anchor.z) } });
     }
   }
   else

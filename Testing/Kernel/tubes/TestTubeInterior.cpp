@@ -158,6 +158,55 @@ TEST(TubeInterior, CoveredVoxelsLieInsideTheLinks)
   EXPECT_THROW(TubeInteriorGrid(Box3{ vec3(0.0f), vec3(1.0f) }, 0.0), std::invalid_argument);
 }
 
+TEST(TubeInterior, BlockSummariesAnswerAsTheirBricksDo)
+{
+  // A thick bundle along x (axes 0.05 apart over |y|, |z| <= 2, radius 0.8): blocks of 4x4x4
+  // bricks (1.6 a side) lie wholly in its covered core.
+  TubeInteriorGrid grid(Box3{ vec3(-1.0f, -3.0f, -3.0f), vec3(9.0f, 3.0f, 3.0f) }, 0.1);
+  for (int j = -40; j <= 40; ++j)
+    for (int k = -40; k <= 40; ++k)
+      grid.coverLink(vec4(-0.5f, 0.05f * j, 0.05f * k, 0.8f), vec4(8.5f, 0.05f * j, 0.05f * k, 0.8f));
+  // Before summarize(): no block answers, and the bricks' words decide covers(). Each box's
+  // truth is covers() of the box grown to whole blocks (edges 1.6 from the grid's corner).
+  const double block = 16 * grid.voxel();
+  const vec3 corner(-1.0f, -3.0f, -3.0f);
+  auto grown = [&](const Box3& box)
+  {
+    Box3 whole;
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const double lo = std::floor((double(box.lower[axis]) - corner[axis]) / block);
+      const double hi = std::floor((double(box.upper[axis]) - corner[axis]) / block) + 1.0;
+      whole.lower[axis] = float(corner[axis] + lo * block + 0.01 * grid.voxel());
+      whole.upper[axis] = float(corner[axis] + hi * block - 0.01 * grid.voxel());
+    }
+    return whole;
+  };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> x(-1.0f, 9.0f), yz(-3.0f, 3.0f), size(0.0f, 4.0f);
+  std::vector<Box3> boxes;
+  std::vector<bool> truth;
+  for (int i = 0; i < 4000; ++i)
+  {
+    const vec3 lower(x(rng), yz(rng), yz(rng));
+    boxes.push_back(Box3{ lower, lower + vec3(size(rng), 0.5f * size(rng), 0.5f * size(rng)) });
+    truth.push_back(grid.covers(grown(boxes.back())));
+    EXPECT_FALSE(grid.blocksCover(boxes.back()));
+  }
+  grid.summarize();
+  int full = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+  {
+    EXPECT_EQ(grid.blocksCover(boxes[i]), bool(truth[i])) << "box " << i;
+    EXPECT_TRUE(!truth[i] || grid.covers(boxes[i])) << "box " << i;
+    full += truth[i];
+  }
+  EXPECT_GT(full, 40);
+  // Boxes spanning several blocks: the whole core, and the core with a sliver past it.
+  EXPECT_TRUE(grid.blocksCover(Box3{ vec3(0.7f, -1.3f, -1.3f), vec3(7.0f, 1.3f, 1.3f) }));
+  EXPECT_FALSE(grid.blocksCover(Box3{ vec3(0.7f, -1.3f, -1.3f), vec3(7.0f, 1.3f, 2.5f) }));
+}
+
 TEST(TubeInterior, OuterLinksDrawWhatAllLinksDraw)
 {
   const DenseBall ball = denseBall(160.0, 11);

@@ -22,9 +22,12 @@ TubeInteriorGrid::TubeInteriorGrid(const Box3& bounds, double voxel)
     !isFinite(bounds.upper))
     throw std::invalid_argument("sightline::TubeInteriorGrid: needs finite, non-empty bounds and a positive voxel");
   const dvec3 upper(bounds.upper);
-  // Sample points and voxel indices are computed in double from float positions: allow far more
-  // than their rounding.
-  Slack = 1e-9 * std::max({ glm::length(Lower), glm::length(upper), voxel });
+  // Sample points and voxel indices are computed in double from float positions, and the
+  // boxes covers() is given in float (rounded by up to 2^-24 of their coordinates): allow far
+  // more than both.
+  Slack = 1e-6 * std::max({ glm::length(Lower), glm::length(upper), voxel });
+  InverseVoxel = 1.0 / voxel;
+  MarkingReach = voxel * std::sqrt(3.0) + Slack;
   std::size_t bricks = 1;
   for (int axis = 0; axis < 3; ++axis)
   {
@@ -46,45 +49,46 @@ bool TubeInteriorGrid::coverLink(const vec4& a, const vec4& b)
   return marked;
 }
 
-void TubeInteriorGrid::coverLinks(const vec4* starts, const vec4* ends, std::size_t count, std::vector<Mark>& marks)
+void TubeInteriorGrid::coverRun(const vec4* nodes, std::size_t count, std::vector<Mark>& marks)
 {
   // Gathered first, with their words prefetched, then set: the words of a run's links lie far
   // apart in the grid, and waiting for them one at a time was most of the time.
+  // Where both ends' bricks are already full (most links, once a dense region has been
+  // marked), a link adds nothing but the odd voxel of a brick between: skipped, which only
+  // ever marks less. Each node's brick is read once, for both its links.
   marks.clear();
+  bool previousFull = false;
   for (std::size_t i = 0; i < count; ++i)
-    collectMarks(starts[i], ends[i], marks);
+  {
+    const bool full = fullAt(nodes[i]);
+    if (i > 0 && !(previousFull && full))
+      collectMarks(nodes[i - 1], nodes[i], marks);
+    previousFull = full;
+  }
   applyMarks(marks);
+}
+
+bool TubeInteriorGrid::fullAt(const vec4& point) const
+{
+  const dvec3 q = (dvec3(vec3(point)) - Lower) * InverseVoxel;
+  if (!(q.x >= 0.0 && q.y >= 0.0 && q.z >= 0.0 && q.x < double(VoxelDims[0]) && q.y < double(VoxelDims[1]) &&
+        q.z < double(VoxelDims[2])))
+    return false;
+  const std::size_t brick = brickOf(std::int64_t(q.x) >> 2, std::int64_t(q.y) >> 2, std::int64_t(q.z) >> 2);
+  return Bricks[brick].load(std::memory_order_relaxed) == ~std::uint64_t(0);
 }
 
 bool TubeInteriorGrid::collectMarks(const vec4& a, const vec4& b, std::vector<Mark>& marks) const
 {
   // Every point of a voxel holding q lies within voxel * sqrt(3) of q; where q is on the axis,
   // the link's solid (the hull of its end spheres) holds the ball of the smaller radius about q.
-  const double reach = Voxel * std::sqrt(3.0) + Slack;
-  if (!(double(std::min(a.w, b.w)) > reach))
+  if (!(double(std::min(a.w, b.w)) > MarkingReach))
     return false;
   // In voxel units; indices by truncation (floor for the non-negative values inside the grid).
-  const double inverse = 1.0 / Voxel;
-  const dvec3 from = (dvec3(vec3(a)) - Lower) * inverse;
-  const dvec3 span = (dvec3(vec3(b)) - dvec3(vec3(a))) * inverse;
+  const dvec3 from = (dvec3(vec3(a)) - Lower) * InverseVoxel;
+  const dvec3 span = (dvec3(vec3(b)) - dvec3(vec3(a))) * InverseVoxel;
   // Samples a voxel apart: where tubes fill space a hundred times over, each voxel still gets
   // about 20 (half as far apart took twice as long for no more hidden links at 10^9 links).
-  // Where both ends' bricks are already full (most links, once a dense region has been
-  // marked), the link adds nothing but the odd voxel of a brick between: skipped, which only
-  // ever marks less.
-  const dvec3 to = from + span;
-  if (from.x >= 0.0 && from.y >= 0.0 && from.z >= 0.0 && to.x >= 0.0 && to.y >= 0.0 && to.z >= 0.0 &&
-    from.x < double(VoxelDims[0]) && from.y < double(VoxelDims[1]) && from.z < double(VoxelDims[2]) &&
-    to.x < double(VoxelDims[0]) && to.y < double(VoxelDims[1]) && to.z < double(VoxelDims[2]))
-  {
-    const auto full = [this](const dvec3& q)
-    {
-      return Bricks[brickOf(std::int64_t(q.x) >> 2, std::int64_t(q.y) >> 2, std::int64_t(q.z) >> 2)].load(
-               std::memory_order_relaxed) == ~std::uint64_t(0);
-    };
-    if (full(from) && full(to))
-      return true;
-  }
   const int steps = std::max(1, int(std::ceil(glm::length(span))));
   const dvec3 step = span / double(steps);
   std::size_t last = ~std::size_t(0);
@@ -138,7 +142,8 @@ void TubeInteriorGrid::summarize()
     });
   for (int axis = 0; axis < 3; ++axis)
     BlockDims[axis] = (BrickDims[axis] + 3) / 4;
-  FullBlocks.assign(std::size_t(BlockDims[0] * BlockDims[1] * BlockDims[2]), 0);
+  const std::int64_t sx = BlockDims[0] + 1, sy = BlockDims[1] + 1, sz = BlockDims[2] + 1;
+  FullBlockSums.assign(std::size_t(sx * sy * sz), 0);
   tbb::parallel_for(std::int64_t(0), BlockDims[2], [&](std::int64_t bz)
     {
       for (std::int64_t by = 0; by < BlockDims[1]; ++by)
@@ -149,16 +154,37 @@ void TubeInteriorGrid::summarize()
             for (std::int64_t y = 4 * by; full && y < 4 * by + 4; ++y)
               for (std::int64_t x = 4 * bx; full && x < 4 * bx + 4; ++x)
                 full = Bricks[brickOf(x, y, z)].load(std::memory_order_relaxed) == ~std::uint64_t(0);
-          FullBlocks[std::size_t((bz * BlockDims[1] + by) * BlockDims[0] + bx)] = full;
+          FullBlockSums[std::size_t(((bz + 1) * sy + by + 1) * sx + bx + 1)] = full;
         }
     });
+  // Summed along x, then y, then z: each entry counts the full blocks below and before it.
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    const std::int64_t strides[3] = { 1, sx, sx * sy };
+    const std::int64_t dims[3] = { sx, sy, sz };
+    const std::int64_t stride = strides[axis];
+    for (std::size_t i = 0; i < FullBlockSums.size(); ++i)
+      if ((std::int64_t(i) / stride) % dims[axis] != 0)
+        FullBlockSums[i] += FullBlockSums[i - std::size_t(stride)];
+  }
 }
 
-bool TubeInteriorGrid::covers(const Box3& box) const
+bool TubeInteriorGrid::blocksCover(const std::int64_t lo[3], const std::int64_t hi[3]) const
+{
+  // Blocks lo..hi inclusive (in block units): full when their count of full blocks is theirs.
+  const std::int64_t sx = BlockDims[0] + 1, sy = BlockDims[1] + 1;
+  const auto sum = [&](std::int64_t x, std::int64_t y, std::int64_t z)
+  { return std::int64_t(FullBlockSums[std::size_t((z * sy + y) * sx + x)]); };
+  const std::int64_t x0 = lo[0], y0 = lo[1], z0 = lo[2], x1 = hi[0] + 1, y1 = hi[1] + 1, z1 = hi[2] + 1;
+  const std::int64_t full = sum(x1, y1, z1) - sum(x0, y1, z1) - sum(x1, y0, z1) - sum(x1, y1, z0) +
+    sum(x0, y0, z1) + sum(x0, y1, z0) + sum(x1, y0, z0) - sum(x0, y0, z0);
+  return full == (x1 - x0) * (y1 - y0) * (z1 - z0);
+}
+
+bool TubeInteriorGrid::brickRange(const Box3& box, std::int64_t lo[3], std::int64_t hi[3]) const
 {
   // In brick units; indices by truncation (floor, as both are non-negative here).
   const double inverse = 0.25 / Voxel;
-  std::int64_t lo[3], hi[3];
   for (int axis = 0; axis < 3; ++axis)
   {
     const double l = (double(box.lower[axis]) - Lower[axis] - Slack) * inverse;
@@ -168,15 +194,33 @@ bool TubeInteriorGrid::covers(const Box3& box) const
     lo[axis] = std::int64_t(l);
     hi[axis] = std::int64_t(h);
   }
+  return true;
+}
+
+bool TubeInteriorGrid::blocksCover(const Box3& box) const
+{
+  std::int64_t lo[3], hi[3];
+  if (FullBlockSums.empty() || !brickRange(box, lo, hi))
+    return false;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    lo[axis] >>= 2;
+    hi[axis] >>= 2;
+  }
+  return blocksCover(lo, hi);
+}
+
+bool TubeInteriorGrid::covers(const Box3& box) const
+{
+  std::int64_t lo[3], hi[3];
+  if (!brickRange(box, lo, hi))
+    return false;
   const bool summarized = !FullBricks.empty();
   if (summarized)
   {
-    bool full = true;
-    for (std::int64_t z = lo[2] >> 2; full && z <= hi[2] >> 2; ++z)
-      for (std::int64_t y = lo[1] >> 2; full && y <= hi[1] >> 2; ++y)
-        for (std::int64_t x = lo[0] >> 2; full && x <= hi[0] >> 2; ++x)
-          full = FullBlocks[std::size_t((z * BlockDims[1] + y) * BlockDims[0] + x)] != 0;
-    if (full)
+    const std::int64_t blockLo[3] = { lo[0] >> 2, lo[1] >> 2, lo[2] >> 2 };
+    const std::int64_t blockHi[3] = { hi[0] >> 2, hi[1] >> 2, hi[2] >> 2 };
+    if (blocksCover(blockLo, blockHi))
       return true;
   }
   for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
@@ -315,7 +359,7 @@ std::shared_ptr<TubeSet> outerLinks(const TubeSet& set, const OuterLinkOptions& 
   inSlices(0.0, 0.5,
     [&](const tbb::blocked_range<std::size_t>& range)
     {
-      std::vector<vec4> starts, ends;
+      std::vector<vec4> nodes;
       std::vector<TubeInteriorGrid::Mark> marks;
       const std::size_t end = std::min(chunks, range.end() * block);
       for (std::size_t o = range.begin() * block; o < end; ++o)
@@ -331,14 +375,14 @@ std::shared_ptr<TubeSet> outerLinks(const TubeSet& set, const OuterLinkOptions& 
         if (o + 8 < end)
           set.prefetchChunk(order[o + 8]);
         const std::size_t c = order[o];
-        starts.clear();
-        ends.clear();
+        nodes.clear();
         forEachLink(c, [&](std::uint32_t, const vec4& ball, const vec4* previous)
           {
-            starts.push_back(previous ? *previous : ball);
-            ends.push_back(ball);
+            if (previous && nodes.empty())
+              nodes.push_back(*previous);
+            nodes.push_back(ball);
           });
-        grid.coverLinks(starts.data(), ends.data(), starts.size(), marks);
+        grid.coverRun(nodes.data(), nodes.size(), marks);
       }
     });
 
@@ -359,6 +403,15 @@ std::shared_ptr<TubeSet> outerLinks(const TubeSet& set, const OuterLinkOptions& 
         std::vector<KeptRun>& runs = kept[b];
         for (std::size_t c = b * block; c < std::min(chunks, (b + 1) * block); ++c)
         {
+          // The chunk's capsule holds all its links: where its box lies in full blocks, so does
+          // each link's, and the chunk is hidden without decoding its points (most chunks, deep
+          // in a dense set). Blocks only: its box meets thousands of bricks.
+          const TubeSet::ChunkPoints points = set.pointsOf(unsigned(c));
+          const float reach = set.Chunks[c].reach;
+          Box3 capsule = sphereBox(vec4(points[0], reach));
+          capsule.extend(sphereBox(vec4(points[set.Chunks[c + 1].firstNode - set.Chunks[c].firstNode - 1], reach)));
+          if (grid.blocksCover(capsule))
+            continue;
           forEachLink(c, [&](std::uint32_t node, const vec4& ball, const vec4* previous)
             {
               Box3 box = sphereBox(ball);

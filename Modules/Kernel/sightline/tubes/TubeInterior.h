@@ -42,15 +42,19 @@ public:
     std::size_t brick;
     std::uint64_t bit;
   };
-  /// coverLink() for `count` links (starts[i] to ends[i]); `marks` is scratch space.
-  void coverLinks(const vec4* starts, const vec4* ends, std::size_t count, std::vector<Mark>& marks);
+  /// coverLink() for the links of a run of `count` nodes (nodes[i - 1] to nodes[i]), but for
+  /// links whose both ends lie in full bricks; `marks` is scratch space.
+  void coverRun(const vec4* nodes, std::size_t count, std::vector<Mark>& marks);
   /// Whether every voxel of every brick that meets `box` is covered (false outside the grid).
   /// Call summarize() after the last coverLink() first: covers() then reads its summaries, and
   /// sees no later marks (which can only make it answer false where it might say true).
   bool covers(const Box3& box) const;
-  /// Notes which blocks of 4x4x4 bricks are wholly covered, so that covers() reads one bit
-  /// for a box inside such blocks (most boxes, deep in a dense set), and which bricks are, a
-  /// bit each for the others.
+  /// covers() for boxes that lie in blocks of 4x4x4 bricks wholly covered, in a few reads
+  /// whatever the box's size; false for others, and before summarize().
+  bool blocksCover(const Box3& box) const;
+  /// Notes which blocks of 4x4x4 bricks are wholly covered, so that covers() reads eight
+  /// counts for a box inside such blocks (most boxes, deep in a dense set), and which bricks
+  /// are, a bit each for the others.
   void summarize();
 
   double voxel() const { return Voxel; }
@@ -60,7 +64,13 @@ public:
 
 private:
   bool collectMarks(const vec4& a, const vec4& b, std::vector<Mark>& marks) const;
+  /// Whether the brick holding `point` is full (false outside the grid).
+  bool fullAt(const vec4& point) const;
   void applyMarks(const std::vector<Mark>& marks);
+  /// The bricks `box` meets, lo..hi inclusive per axis; false where it leaves the grid.
+  bool brickRange(const Box3& box, std::int64_t lo[3], std::int64_t hi[3]) const;
+  /// Whether blocks lo..hi (inclusive) are all full, from FullBlockSums.
+  bool blocksCover(const std::int64_t lo[3], const std::int64_t hi[3]) const;
   /// Bricks in tiles of 2x2x2 (a cache line), tiles in x, y, z order: a link's neighbourhood
   /// is a few cache lines.
   std::size_t brickOf(std::int64_t x, std::int64_t y, std::int64_t z) const
@@ -72,13 +82,17 @@ private:
   dvec3 Lower;
   double Voxel;
   double Slack; ///< absolute rounding allowance of positions and voxel indices
+  double InverseVoxel;
+  double MarkingReach; ///< voxel * sqrt(3) and Slack: links thinner than that mark nothing
   std::int64_t VoxelDims[3];
   std::int64_t BrickDims[3];
   /// On huge pages where Linux gives them: marking reads it at random (70 MB for a brain).
   using Table = std::vector<std::atomic<std::uint64_t>, HugePageAllocator<std::atomic<std::uint64_t>>>;
   Table Bricks;
   std::int64_t BlockDims[3] = { 0, 0, 0 };
-  std::vector<std::uint8_t> FullBlocks; ///< summarize(): 1 where all 64 bricks are full
+  /// summarize(): at (x, y, z), the count of full blocks (all 64 bricks full) below x, y and
+  /// z, with a zero layer before each axis: a box's count from 8 entries.
+  std::vector<std::uint32_t> FullBlockSums;
   std::vector<std::uint8_t> FullBricks; ///< summarize(): a bit per full brick, a byte per tile
 };
 

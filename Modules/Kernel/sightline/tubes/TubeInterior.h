@@ -42,8 +42,9 @@ public:
     std::size_t brick;
     std::uint64_t bit;
   };
-  /// coverLink() for the links of a run of `count` nodes (nodes[i - 1] to nodes[i]), but for
-  /// links whose both ends lie in full bricks; `marks` is scratch space.
+  /// coverLink() for the links of a run of `count` nodes (nodes[i - 1] to nodes[i]), except
+  /// links whose ends both lie in full bricks (they would add at most a voxel between);
+  /// `marks` is scratch space.
   void coverRun(const vec4* nodes, std::size_t count, std::vector<Mark>& marks);
   /// Whether every voxel of every brick that meets `box` is covered (false outside the grid).
   /// Call summarize() after the last coverLink() first: covers() then reads its summaries, and
@@ -81,7 +82,7 @@ private:
 
   dvec3 Lower;
   double Voxel;
-  double Slack; ///< absolute rounding allowance of positions and voxel indices
+  double Slack; ///< absolute rounding allowance of positions, voxel indices and float boxes
   double InverseVoxel;
   double MarkingReach; ///< voxel * sqrt(3) and Slack: links thinner than that mark nothing
   std::int64_t VoxelDims[3];

@@ -14,7 +14,7 @@
 # SIGHTLINE_DEBIAN13=0 skips that second run. There the modules are also checked on PyPI's
 # VTK wheel through EGL and OSMesa with no X server (scripts/pypi-vtk-check.sh), and the
 # sanitizer job is left out unless SIGHTLINE_DEBIAN13_SANITIZE=1: it checks the same code as
-# here, and would add about 19 of CI's 90 minutes on 2 cores (on Debian 13 itself test.sh runs
+# here, and would add about 16 of CI's 90 minutes on 2 cores (on Debian 13 itself test.sh runs
 # it, with the default clang).
 #
 # Rendering tests open VTK windows, so ctest runs with a virtual X server of our own, started

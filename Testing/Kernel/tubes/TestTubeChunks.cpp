@@ -499,6 +499,73 @@ TEST(TubeChunks, RunBuilderBuildsWhatTheConstructorBuilds)
     }
 }
 
+TEST(TubeChunks, RunBuilderInSlicesBuildsWhatItBuildsRunByRun)
+{
+  // addRuns() stores slices of runs on TBB's threads and appends them in order: the same set
+  // as addRun() run by run. Slices of a few points, so that each batch has many; runs rounded
+  // to float16 in turn, so that both compact and wide chunks are appended.
+  Tubes runs = runsOf(randomTubes(11));
+  std::vector<std::size_t> ends;
+  for (std::size_t i = 1; i <= runs.points.size(); ++i)
+    if (i == runs.points.size() || runs.predecessors[i] != std::int64_t(i) - 1)
+      ends.push_back(i);
+  for (std::size_t k = 0, begin = 0; k < ends.size(); begin = ends[k++])
+    if (k % 2 == 0)
+      for (std::size_t i = begin; i < ends[k]; ++i)
+        for (int axis = 0; axis < 3; ++axis)
+          runs.points[i][axis] = halfToFloat(floatToHalf(runs.points[i][axis]));
+  ASSERT_GE(ends.size(), 10u);
+  std::vector<std::uint32_t> colors(runs.points.size());
+  for (std::size_t i = 0; i < colors.size(); ++i)
+    colors[i] = packRGBA8(std::uint8_t(i * 29), std::uint8_t(i * 3), std::uint8_t(i * 17));
+  const dvec3 origin(8.0, -3.5, 12.25);
+  // Two batches (the second's run ends count from its first point), an empty run in each.
+  auto build = [&](const Tubes& input, unsigned size, bool colored, std::size_t slicePoints)
+  {
+    TubeRunBuilder builder(origin, size, colored);
+    builder.reserve(input.points.size());
+    const std::size_t split = ends.size() / 2, middle = ends[split - 1];
+    std::vector<std::size_t> first(ends.begin(), ends.begin() + std::ptrdiff_t(split));
+    std::vector<std::size_t> second;
+    for (std::size_t k = split; k < ends.size(); ++k)
+      second.push_back(ends[k] - middle);
+    first.insert(first.begin() + 2, first[1]);
+    second.insert(second.begin(), 0);
+    builder.addRuns(input.points.data(), input.radii.data(), colored ? colors.data() : nullptr, first.data(),
+      first.size(), slicePoints);
+    EXPECT_EQ(builder.pointsGiven(), middle);
+    builder.addRuns(input.points.data() + middle, input.radii.data() + middle,
+      colored ? colors.data() + middle : nullptr, second.data(), second.size(), slicePoints);
+    EXPECT_EQ(builder.pointsGiven(), input.points.size());
+    return builder.finish();
+  };
+  for (bool colored : { false, true })
+    for (unsigned size : { 1u, 3u, TubeLayout::kDefaultChunkSize })
+    {
+      const auto reference = buildRuns(runs, origin, size, colored ? colors : std::vector<std::uint32_t>{});
+      if (size >= 3u) // (compact from 3 nodes on)
+      {
+        ASSERT_GT(reference->compactChunkCount(), 0u);
+        ASSERT_LT(reference->compactChunkCount(), reference->size());
+      }
+      for (std::size_t slicePoints : { std::size_t(1), std::size_t(16), std::size_t(1) << 30 })
+      {
+        SCOPED_TRACE("chunk size " + std::to_string(size) + ", slices of " + std::to_string(slicePoints));
+        const auto built = build(runs, size, colored, slicePoints);
+        EXPECT_EQ(built->compactChunkCount(), reference->compactChunkCount());
+        expectSameSet(*built, *reference);
+      }
+    }
+  // Points to drop: the builder goes run by run, with the same reasons and source indices.
+  Tubes bad = runs;
+  bad.points[ends[3] + 1].z = NAN;
+  bad.radii[ends[8] - 1] = -1.0f;
+  const auto reference = buildRuns(bad, origin, 4u, colors);
+  const auto built = build(bad, 4u, true, 8);
+  EXPECT_EQ(built->report().rejected, 2u);
+  expectSameSet(*built, *reference);
+}
+
 TEST(TubeChunks, RunBuilderNamesMisuse)
 {
   const vec3 points[2] = { vec3(0.0f), vec3(1.0f, 0.0f, 0.0f) };

@@ -64,13 +64,8 @@ TubeBatchBuilder::Batch TubeBatchBuilder::add(Batch&& batch)
     [this]
     {
       const Batch& runs = Building;
-      std::size_t begin = 0;
-      for (std::size_t end : runs.runEnds)
-      {
-        Builder.addRun(runs.points.data() + begin, runs.radii.data() + begin,
-          WithColors ? runs.colors.data() + begin : nullptr, end - begin);
-        begin = end;
-      }
+      Builder.addRuns(runs.points.data(), runs.radii.data(), WithColors ? runs.colors.data() : nullptr,
+        runs.runEnds.data(), runs.runEnds.size());
     });
   return spare;
 }

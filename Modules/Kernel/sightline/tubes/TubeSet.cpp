@@ -2,9 +2,11 @@
 #include "sightline/tubes/TubeSet.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -611,6 +613,49 @@ void TubeSet::storeChunk(const vec3* positions, const float* radii, std::size_t 
   }
 }
 
+void TubeSet::appendChunks(const TubeSet& part)
+{
+  closeChunk();
+  const std::uint32_t nodes = std::uint32_t(NodeCount), radii = std::uint32_t(Radii.size());
+  const std::size_t compact = Compact.size(), wide = Wide.size();
+  if (compact + part.Compact.size() >= kCompactChunk || wide + part.Wide.size() >= kCompactChunk)
+    throw std::length_error("sightline::TubeSet: more chunk positions than 2^31 entries");
+  for (ChunkEntry entry : part.Chunks)
+  {
+    entry.firstNode += nodes;
+    if (entry.predecessor >= 0)
+      entry.predecessor += std::int32_t(nodes);
+    entry.firstRadius += radii;
+    entry.positions = entry.positions & kCompactChunk
+      ? kCompactChunk | (std::uint32_t(compact) + (entry.positions & ~kCompactChunk))
+      : std::uint32_t(wide) + entry.positions;
+    Chunks.push_back(entry);
+  }
+  // The positions reserve at their full size on a set that expects them (storeChunk).
+  if (Compact.empty() && ReserveHint > 0 && !part.Compact.empty())
+    Compact.reserve(ReserveHint + 2 * ChunkHint);
+  if (Wide.empty() && ReserveHint > 0 && !part.Wide.empty())
+    Wide.reserve(ReserveHint);
+  Compact.insert(Compact.end(), part.Compact.begin(), part.Compact.end());
+  Wide.insert(Wide.end(), part.Wide.begin(), part.Wide.end());
+  Radii.insert(Radii.end(), part.Radii.begin(), part.Radii.end());
+  NodeCount += part.NodeCount;
+  Links += part.Links;
+  AllBounds.extend(part.AllBounds);
+}
+
+void TubeSet::clearChunks()
+{
+  Chunks.clear();
+  Compact.clear();
+  Wide.clear();
+  Radii.clear();
+  OpenPositions.clear();
+  NodeCount = 0;
+  Links = 0;
+  AllBounds = Box3{};
+}
+
 void TubeSet::closeChunk()
 {
   if (OpenPositions.empty())
@@ -841,17 +886,83 @@ void TubeRunBuilder::reserve(std::size_t points, std::size_t runs)
     Set->Colors.reserve(points);
 }
 
-void TubeRunBuilder::addRun(
-  const vec3* points, const float* radii, const std::uint32_t* colors, std::size_t count)
+void TubeRunBuilder::checkRuns(const std::uint32_t* colors, std::size_t count) const
 {
   if (!Set)
     throw std::logic_error("sightline::TubeRunBuilder: runs added after finish()");
-  if ((colors != nullptr) != WithColors)
+  if (count > 0 && (colors != nullptr) != WithColors)
     throw std::invalid_argument(std::string("sightline::TubeRunBuilder: a run ") +
       (WithColors ? "without colours for a builder made with them" : "with colours for a builder made without"));
   if (Given + count >= std::size_t(INT32_MAX))
     throw std::invalid_argument("sightline::TubeRunBuilder: " + std::to_string(Given + count) +
       " points exceed the 2^31 - 1 a tube set indexes");
+}
+
+void TubeRunBuilder::addRuns(const vec3* points, const float* radii, const std::uint32_t* colors,
+  const std::size_t* runEnds, std::size_t runs, std::size_t slicePoints)
+{
+  const std::size_t count = runs > 0 ? runEnds[runs - 1] : 0;
+  checkRuns(colors, count);
+  auto oneByOne = [&]
+  {
+    for (std::size_t k = 0, begin = 0; k < runs; begin = runEnds[k++])
+      addRun(points + begin, radii + begin, colors ? colors + begin : nullptr, runEnds[k] - begin);
+  };
+  // Storing chunks (their capsules, float16 offsets) is most of a streamed build's time, on
+  // one thread while the caller reads the next piece: slices of runs are stored into sets of
+  // their own at once, then appended in order. Sets with dropped points keep to one thread
+  // (their source indices and reasons go point by point).
+  const std::size_t sliceCount = std::min<std::size_t>(runs, count / std::max<std::size_t>(slicePoints, 1));
+  if (sliceCount < 2 || Set->Report.rejected > 0)
+    return oneByOne();
+  // Slice s holds runs firstRun[s] .. firstRun[s + 1] - 1: about as many points each.
+  std::vector<std::size_t> firstRun(sliceCount + 1, runs);
+  firstRun[0] = 0;
+  for (std::size_t s = 1; s < sliceCount; ++s)
+    firstRun[s] = std::size_t(std::upper_bound(runEnds, runEnds + runs, count * s / sliceCount) - runEnds);
+  while (Slices.size() < sliceCount)
+  {
+    Slices.push_back(std::unique_ptr<TubeSet>(new TubeSet()));
+    Slices.back()->Layout = Set->Layout;
+    Slices.back()->Origin = Set->Origin;
+    Slices.back()->Chunked = true;
+  }
+  std::atomic<bool> dropped{ false };
+  tbb::parallel_for(std::size_t(0), sliceCount, [&](std::size_t s)
+    {
+      TubeSet& part = *Slices[s];
+      part.clearChunks();
+      const std::size_t begin = firstRun[s] > 0 ? runEnds[firstRun[s] - 1] : 0;
+      const std::size_t end = firstRun[s + 1] > 0 ? runEnds[firstRun[s + 1] - 1] : 0;
+      for (std::size_t i = begin; i < end; ++i)
+        if (!(isFinite(points[i]) && std::isfinite(radii[i]) && radii[i] >= 0.0f))
+        {
+          dropped = true;
+          return;
+        }
+      part.ReserveHint = end - begin;
+      part.ChunkHint = (end - begin) / part.Layout.chunkSize + (firstRun[s + 1] - firstRun[s]) + 1;
+      part.Chunks.reserve(part.ChunkHint);
+      for (std::size_t k = firstRun[s], from = begin; k < firstRun[s + 1]; from = runEnds[k++])
+        if (runEnds[k] > from)
+        {
+          part.appendLinkedNodes(points + from, radii + from, runEnds[k] - from);
+          part.Links += runEnds[k] - from - 1;
+        }
+    });
+  if (dropped)
+    return oneByOne();
+  for (std::size_t s = 0; s < sliceCount; ++s)
+    Set->appendChunks(*Slices[s]);
+  if (colors)
+    Set->Colors.insert(Set->Colors.end(), colors, colors + count);
+  Given += count;
+}
+
+void TubeRunBuilder::addRun(
+  const vec3* points, const float* radii, const std::uint32_t* colors, std::size_t count)
+{
+  checkRuns(colors, count);
   TubeSet& set = *Set;
   const std::size_t given = Given;
   Given += count;

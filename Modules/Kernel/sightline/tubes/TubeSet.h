@@ -185,6 +185,11 @@ private:
   /// Chunked layout: appends `count` nodes, the first starting a tube and each other linked to
   /// the node before, in chunks stored at once (what appendChunkNode gives for the same nodes).
   void appendLinkedNodes(const vec3* points, const float* radii, std::size_t count);
+  /// Chunked layout: appends the chunks of `part` (built alone, not finished) after this set's,
+  /// its nodes numbered on from this set's: what building its runs here would have stored.
+  void appendChunks(const TubeSet& part);
+  /// Chunked layout: empties the chunk tables of a set being built, keeping their storage.
+  void clearChunks();
   /// Chunked layout: stores the open (last) chunk, with one radius where all its radii are equal.
   void closeChunk();
   /// Chunked layout: closes the open chunk and ends the chunk tables with the node and radius
@@ -268,6 +273,14 @@ public:
   /// given exactly when the builder was made withColors. Throws std::invalid_argument past
   /// 2^31 - 1 points in all.
   void addRun(const vec3* points, const float* radii, const std::uint32_t* colors, std::size_t count);
+  /// addRun() for `runs` runs one after the other, run k ending before point runEnds[k] (the
+  /// first starting at 0): the same set, built in slices of about `slicePoints` points on
+  /// TBB's threads where the runs hold no point to drop.
+  void addRuns(const vec3* points, const float* radii, const std::uint32_t* colors,
+    const std::size_t* runEnds, std::size_t runs, std::size_t slicePoints = kSlicePoints);
+  /// Slices of a few hundred thousand points: large enough that appending them costs little,
+  /// small enough that a streamed piece (millions) gives every thread several.
+  static constexpr std::size_t kSlicePoints = std::size_t(1) << 18;
 
   /// Points given so far (kept or dropped): the constructor index the next point gets.
   std::size_t pointsGiven() const { return Given; }
@@ -275,7 +288,12 @@ public:
   std::shared_ptr<TubeSet> finish();
 
 private:
+  /// Checks what addRun() and addRuns() check.
+  void checkRuns(const std::uint32_t* colors, std::size_t count) const;
+
   std::shared_ptr<TubeSet> Set;
+  /// addRuns(): sets the slices are built in, kept with their storage from batch to batch.
+  std::vector<std::unique_ptr<TubeSet>> Slices;
   std::vector<std::uint32_t> SourceIndex; ///< filled from the first dropped point on
   std::size_t Given = 0;
   bool WithColors = false;

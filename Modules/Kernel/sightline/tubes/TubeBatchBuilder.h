@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Building a chunked tube set from a streamed input (Documentation/tubes.md, "Whole-brain
 // tractograms"): the caller reads and converts one piece while the piece before is built on a
-// thread of its own. At 10^9 links both halves take minutes on one core each; overlapped, the
-// first image waits for the longer half only.
+// thread of its own. At 10^9 links both halves take most of a minute each; overlapped, the
+// first image waits for the longer half only, and that half (storing) spreads each batch over
+// TBB's threads in slices (TubeRunBuilder::addRuns), so the two halves share the cores.
 #pragma once
 
 #include "sightline/tubes/TubeSet.h"

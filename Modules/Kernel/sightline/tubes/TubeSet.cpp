@@ -1004,6 +1004,8 @@ std::shared_ptr<TubeSet> TubeRunBuilder::finish()
   if (!Set)
     throw std::logic_error("sightline::TubeRunBuilder: finish() called twice");
   std::shared_ptr<TubeSet> set = std::move(Set);
+  Slices.clear(); // (their storage is only for building)
+  Slices.shrink_to_fit();
   set->SourceIndex = std::move(SourceIndex);
   set->finishChunks(); // (AllBounds grew chunk by chunk)
   return set;

@@ -577,6 +577,10 @@ TEST(TubeChunks, RunBuilderNamesMisuse)
   EXPECT_THROW(plain.addRun(points, radii, colors, 2), std::invalid_argument);
   TubeRunBuilder coloured(dvec3(0.0), 8u, true);
   EXPECT_THROW(coloured.addRun(points, radii, nullptr, 2), std::invalid_argument);
+  const std::size_t decreasing[2] = { 2, 1 };
+  EXPECT_THROW(plain.addRuns(points, radii, nullptr, decreasing, 2), std::invalid_argument);
+  EXPECT_THROW(coloured.addRuns(points, radii, nullptr, decreasing + 0, 1), std::invalid_argument);
+  EXPECT_EQ(plain.pointsGiven(), 0u);
   plain.addRun(points, radii, nullptr, 2);
   plain.addRun(points, radii, nullptr, 0); // an empty run adds nothing
   const auto set = plain.finish();

@@ -901,6 +901,10 @@ void TubeRunBuilder::checkRuns(const std::uint32_t* colors, std::size_t count) c
 void TubeRunBuilder::addRuns(const vec3* points, const float* radii, const std::uint32_t* colors,
   const std::size_t* runEnds, std::size_t runs, std::size_t slicePoints)
 {
+  for (std::size_t k = 0; k < runs; ++k)
+    if (k > 0 && runEnds[k] < runEnds[k - 1])
+      throw std::invalid_argument("sightline::TubeRunBuilder: run end " + std::to_string(k) + " (" +
+        std::to_string(runEnds[k]) + ") is before the one before it (" + std::to_string(runEnds[k - 1]) + ")");
   const std::size_t count = runs > 0 ? runEnds[runs - 1] : 0;
   checkRuns(colors, count);
   auto oneByOne = [&]

@@ -275,7 +275,8 @@ public:
   void addRun(const vec3* points, const float* radii, const std::uint32_t* colors, std::size_t count);
   /// addRun() for `runs` runs one after the other, run k ending before point runEnds[k] (the
   /// first starting at 0): the same set, built in slices of about `slicePoints` points on
-  /// TBB's threads where the runs hold no point to drop.
+  /// TBB's threads where the runs hold no point to drop. Throws std::invalid_argument for run
+  /// ends that decrease, and as addRun().
   void addRuns(const vec3* points, const float* radii, const std::uint32_t* colors,
     const std::size_t* runEnds, std::size_t runs, std::size_t slicePoints = kSlicePoints);
   /// Slices of a few hundred thousand points: large enough that appending them costs little,

@@ -583,14 +583,9 @@ void TubeSet::storeChunk(const vec3* positions, const float* radii, std::size_t 
       throw std::length_error("sightline::TubeSet: more chunk positions than 2^31 entries");
     return std::uint32_t(index);
   };
-  auto reserve = [&](auto& v, std::size_t entries)
-  {
-    if (v.empty() && ReserveHint > 0)
-      v.reserve(entries);
-  };
   if (compact)
   {
-    reserve(Compact, ReserveHint + 2 * ChunkHint);
+    reservePositions(true);
     Chunks.back().positions = kCompactChunk | first(Compact.size());
     Half3 bits[2];
     static_assert(sizeof(bits) == sizeof(vec3), "an anchor is two entries");
@@ -607,10 +602,21 @@ void TubeSet::storeChunk(const vec3* positions, const float* radii, std::size_t 
   }
   else
   {
-    reserve(Wide, ReserveHint);
+    reservePositions(false);
     Chunks.back().positions = first(Wide.size());
     Wide.insert(Wide.end(), positions, positions + count);
   }
+}
+
+void TubeSet::reservePositions(bool compact)
+{
+  // Once, at the full size a builder expects (each compact chunk adds an anchor of 2 entries).
+  if (ReserveHint == 0)
+    return;
+  if (compact && Compact.empty())
+    Compact.reserve(ReserveHint + 2 * ChunkHint);
+  if (!compact && Wide.empty())
+    Wide.reserve(ReserveHint);
 }
 
 void TubeSet::appendChunks(const TubeSet& part)
@@ -631,11 +637,10 @@ void TubeSet::appendChunks(const TubeSet& part)
       : std::uint32_t(wide) + entry.positions;
     Chunks.push_back(entry);
   }
-  // The positions reserve at their full size on a set that expects them (storeChunk).
-  if (Compact.empty() && ReserveHint > 0 && !part.Compact.empty())
-    Compact.reserve(ReserveHint + 2 * ChunkHint);
-  if (Wide.empty() && ReserveHint > 0 && !part.Wide.empty())
-    Wide.reserve(ReserveHint);
+  if (!part.Compact.empty())
+    reservePositions(true);
+  if (!part.Wide.empty())
+    reservePositions(false);
   Compact.insert(Compact.end(), part.Compact.begin(), part.Compact.end());
   Wide.insert(Wide.end(), part.Wide.begin(), part.Wide.end());
   Radii.insert(Radii.end(), part.Radii.begin(), part.Radii.end());

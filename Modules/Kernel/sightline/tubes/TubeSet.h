@@ -185,6 +185,9 @@ private:
   /// Chunked layout: appends `count` nodes, the first starting a tube and each other linked to
   /// the node before, in chunks stored at once (what appendChunkNode gives for the same nodes).
   void appendLinkedNodes(const vec3* points, const float* radii, std::size_t count);
+  /// Chunked layout: reserves Compact (or Wide) once at the size ReserveHint and ChunkHint
+  /// expect, before its first chunk is stored (a grown vector's trim would copy it at the peak).
+  void reservePositions(bool compact);
   /// Chunked layout: appends the chunks of `part` (built alone, not finished) after this set's,
   /// its nodes numbered on from this set's: what building its runs here would have stored.
   void appendChunks(const TubeSet& part);
